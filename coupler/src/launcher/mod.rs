@@ -1,0 +1,108 @@
+//! The `coupler` executable's library half: check a scenario, launch and
+//! supervise its participants, drive the coupling schedule, write the run
+//! directory. Only the `coupler` binary uses this (feature `launcher`).
+
+pub mod bench;
+pub mod control;
+pub mod monitors;
+pub mod programs;
+pub mod progress;
+pub mod run;
+pub mod schedule;
+pub mod supervise;
+
+use crate::protocol::Role;
+use crate::scenario::{Scenario, ScenarioError};
+use programs::Program;
+use std::path::{Path, PathBuf};
+
+/// Exit code for bad input (scenario, arguments, missing program).
+pub const EXIT_BAD_INPUT: i32 = 2;
+/// Exit code for a run that failed or diverged.
+pub const EXIT_RUN_FAILED: i32 = 1;
+/// Exit code after Ctrl-C.
+pub const EXIT_INTERRUPTED: i32 = 130;
+
+/// A scenario with the program that plays each role.
+pub struct Checked {
+    pub path: PathBuf,
+    pub scenario: Scenario,
+    pub programs: Vec<(Role, Program)>,
+}
+
+/// Load the scenario and find its programs; every problem is one message with file, line and key.
+pub fn load_checked(path: &Path) -> Result<Checked, ScenarioError> {
+    let scenario = Scenario::load(path)?;
+    let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::io(path, &e))?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let mut programs = Vec::new();
+    for role in scenario.participants.roles() {
+        let spec = scenario
+            .participants
+            .get(role)
+            .expect("roles() lists present roles");
+        match programs::resolve(&spec.program, &dir) {
+            Some(p) => programs.push((role, p)),
+            None => {
+                let where_ = if spec.program.contains('/') {
+                    format!(
+                        "{} is not an executable file",
+                        dir.join(&spec.program).display()
+                    )
+                } else {
+                    "it is neither beside the coupler executable nor on PATH".to_string()
+                };
+                return Err(ScenarioError::at_key(
+                    path,
+                    &text,
+                    &["participants", role.name(), "program"],
+                    format!("program `{}` not found: {where_}", spec.program),
+                ));
+            }
+        }
+    }
+    Ok(Checked {
+        path: path.to_path_buf(),
+        scenario,
+        programs,
+    })
+}
+
+/// `coupler check`: validate without running anything.
+pub fn check(path: &Path) -> i32 {
+    let checked = match load_checked(path) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return EXIT_BAD_INPUT;
+        }
+    };
+    let s = &checked.scenario;
+    let c = &s.coupling;
+    println!("{}: ok — scene `{}`", path.display(), s.run.name);
+    println!(
+        "  time      {} → {} s, {} windows of Δt_f = {} s",
+        s.run.start_time,
+        s.run.end_time,
+        s.windows(),
+        c.window
+    );
+    println!(
+        "  sub-steps n_s = {} (Δt_s = {:e} s), impulse sub-steps = {}",
+        c.structure_substeps,
+        c.window / c.structure_substeps as f64,
+        c.impulse_substeps
+    );
+    for (role, program) in &checked.programs {
+        match program {
+            Program::Found(p) => println!("  {:<9} {}", role.name(), p.display()),
+            Program::Buildable { package, .. } => {
+                println!(
+                    "  {:<9} workspace package `{package}` (built on first run)",
+                    role.name()
+                )
+            }
+        }
+    }
+    0
+}

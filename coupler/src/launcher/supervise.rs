@@ -1,0 +1,164 @@
+//! Child processes: start them, keep the tail of their stderr, notice when
+//! they exit, stop them, and always reap them (iceoryx2 sees a process as dead
+//! only once its parent has waited on it).
+
+use std::collections::VecDeque;
+use std::os::unix::process::ExitStatusExt;
+use std::path::Path;
+use std::process::{ExitStatus, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader};
+use tokio::sync::mpsc;
+use tokio::task::JoinHandle;
+
+use crate::protocol::Role;
+
+/// Lines of stderr kept to quote when a participant fails.
+const TAIL_LINES: usize = 12;
+
+pub struct Child {
+    pub role: Role,
+    pub program: String,
+    pub pid: u32,
+    pub started: Instant,
+    pub exited: Option<(ExitStatus, Instant)>,
+    pub tail: Arc<Mutex<VecDeque<String>>>,
+    readers: Vec<JoinHandle<()>>,
+}
+
+/// A child's exit, sent by its waiting task.
+pub struct Exit {
+    pub role: Role,
+    pub status: std::io::Result<ExitStatus>,
+    pub at: Instant,
+}
+
+pub fn describe(status: &ExitStatus) -> String {
+    match (status.code(), status.signal()) {
+        (Some(c), _) => format!("exited with status {c}"),
+        (None, Some(9)) => "was killed by signal 9 (SIGKILL)".into(),
+        (None, Some(s)) => format!("was killed by signal {s}"),
+        _ => "ended".into(),
+    }
+}
+
+/// Start `program` for `role`; its stdout and stderr go to `logs/<role>.log` in the
+/// run directory, and its exit is sent on `exits`.
+pub fn spawn(
+    role: Role,
+    program: &Path,
+    args: &[String],
+    env: &[(&str, String)],
+    run_dir: &Path,
+    exits: mpsc::UnboundedSender<Exit>,
+) -> std::io::Result<Child> {
+    let mut cmd = tokio::process::Command::new(program);
+    cmd.args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        // Its own process group: Ctrl-C reaches only the coupler, which stops
+        // the participants itself.
+        .process_group(0)
+        .kill_on_drop(true);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let mut child = cmd.spawn()?;
+    let pid = child.id().unwrap_or(0);
+    let logs = run_dir.join("logs");
+    std::fs::create_dir_all(&logs)?;
+    let log_path = logs.join(format!("{}.log", role.name()));
+    let tail = Arc::new(Mutex::new(VecDeque::new()));
+    let mut readers = Vec::new();
+    if let Some(err) = child.stderr.take() {
+        let (tail, path) = (tail.clone(), log_path.clone());
+        readers.push(tokio::spawn(async move {
+            let mut log = tokio::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(&path)
+                .await
+                .ok();
+            let mut lines = BufReader::new(err).lines();
+            while let Ok(Some(line)) = lines.next_line().await {
+                if let Some(f) = log.as_mut() {
+                    let _ = f.write_all(format!("{line}\n").as_bytes()).await;
+                }
+                let mut t = tail.lock().unwrap_or_else(|e| e.into_inner());
+                if t.len() == TAIL_LINES {
+                    t.pop_front();
+                }
+                t.push_back(line);
+            }
+        }));
+    }
+    if let Some(out) = child.stdout.take() {
+        let path = log_path.clone();
+        readers.push(tokio::spawn(async move {
+            let mut log = tokio::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(&path)
+                .await
+                .ok();
+            let mut lines = BufReader::new(out).lines();
+            while let Ok(Some(line)) = lines.next_line().await {
+                if let Some(f) = log.as_mut() {
+                    let _ = f.write_all(format!("{line}\n").as_bytes()).await;
+                }
+            }
+        }));
+    }
+    tokio::spawn(async move {
+        let status = child.wait().await;
+        let _ = exits.send(Exit {
+            role,
+            status,
+            at: Instant::now(),
+        });
+    });
+    Ok(Child {
+        role,
+        program: program.display().to_string(),
+        pid,
+        started: Instant::now(),
+        exited: None,
+        tail,
+        readers,
+    })
+}
+
+impl Child {
+    /// SIGKILL the child's process group, unless it already exited.
+    pub fn kill(&self) {
+        if self.exited.is_none() && self.pid > 0 {
+            // SAFETY: plain syscall; the group id equals the pid (process_group(0)),
+            // and the pid is not reaped (so not reused) until its waiting task sees the exit.
+            unsafe {
+                libc::kill(-(self.pid as i32), libc::SIGKILL);
+            }
+        }
+    }
+
+    /// Wait until stderr and stdout are drained, so the tail is complete.
+    pub async fn drain(&mut self) {
+        for r in self.readers.drain(..) {
+            let _ = tokio::time::timeout(std::time::Duration::from_secs(2), r).await;
+        }
+    }
+
+    pub fn tail(&self) -> Vec<String> {
+        self.tail
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .iter()
+            .cloned()
+            .collect()
+    }
+
+    pub fn wall_s(&self) -> Option<f64> {
+        self.exited.map(|(_, at)| (at - self.started).as_secs_f64())
+    }
+}

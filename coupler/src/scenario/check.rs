@@ -1,0 +1,121 @@
+//! Value checks that remember the first problem and the key it belongs to.
+
+/// One segment of a key path: a table key or an array index.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Seg {
+    Key(String),
+    Index(usize),
+}
+
+/// A problem found in a scenario, at a key path like `rigid.bodies[0].mass`.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    pub path: Vec<Seg>,
+    pub message: String,
+}
+
+pub fn path_string(path: &[Seg]) -> String {
+    let mut s = String::new();
+    for seg in path {
+        match seg {
+            Seg::Key(k) => {
+                if !s.is_empty() {
+                    s.push('.');
+                }
+                s.push_str(k);
+            }
+            Seg::Index(i) => s.push_str(&format!("[{i}]")),
+        }
+    }
+    s
+}
+
+/// Collects the first problem; later checks are ignored so the user gets one clear message.
+#[derive(Debug, Default)]
+pub struct Checker {
+    prefix: Vec<Seg>,
+    first: Option<Problem>,
+}
+
+impl Checker {
+    /// Run `f` with `key` (and an optional index) appended to every path it reports.
+    pub fn within(&mut self, key: &str, index: Option<usize>, f: impl FnOnce(&mut Checker)) {
+        let depth = self.prefix.len();
+        self.prefix.push(Seg::Key(key.to_string()));
+        if let Some(i) = index {
+            self.prefix.push(Seg::Index(i));
+        }
+        f(self);
+        self.prefix.truncate(depth);
+    }
+
+    pub fn problem(&mut self, keys: &[&str], message: String) {
+        if self.first.is_some() {
+            return;
+        }
+        let mut path = self.prefix.clone();
+        path.extend(keys.iter().map(|k| Seg::Key(k.to_string())));
+        self.first = Some(Problem { path, message });
+    }
+
+    pub fn into_problem(self) -> Option<Problem> {
+        self.first
+    }
+
+    fn last(keys: &[&str]) -> String {
+        keys.last().copied().unwrap_or("value").to_string()
+    }
+
+    pub fn finite(&mut self, keys: &[&str], v: f64) {
+        if !v.is_finite() {
+            self.problem(
+                keys,
+                format!("{} = {v} must be a finite number", Self::last(keys)),
+            );
+        }
+    }
+
+    pub fn finite3(&mut self, keys: &[&str], v: [f64; 3]) {
+        if v.iter().any(|x| !x.is_finite()) {
+            self.problem(
+                keys,
+                format!("{} = {v:?} must hold finite numbers", Self::last(keys)),
+            );
+        }
+    }
+
+    pub fn positive(&mut self, keys: &[&str], v: f64, unit: &str) {
+        if !(v.is_finite() && v > 0.0) {
+            self.problem(
+                keys,
+                format!("{} = {v} must be > 0 {unit}", Self::last(keys))
+                    .trim_end()
+                    .to_string(),
+            );
+        }
+    }
+
+    pub fn finite_nonneg(&mut self, keys: &[&str], v: f64) {
+        if !(v.is_finite() && v >= 0.0) {
+            self.problem(keys, format!("{} = {v} must be ≥ 0", Self::last(keys)));
+        }
+    }
+
+    pub fn nonzero(&mut self, keys: &[&str], v: f64) {
+        if v == 0.0 {
+            self.problem(keys, format!("{} must be at least 1", Self::last(keys)));
+        }
+    }
+
+    pub fn fraction(&mut self, keys: &[&str], v: f64) {
+        if !(v.is_finite() && v > 0.0 && v < 1.0) {
+            self.problem(
+                keys,
+                format!(
+                    "{} = {v} must lie strictly between 0 and 1",
+                    Self::last(keys)
+                ),
+            );
+        }
+    }
+}

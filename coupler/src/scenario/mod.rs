@@ -1,0 +1,248 @@
+//! Scenario files: TOML parsed with serde, unknown keys rejected, every value
+//! checked, every problem reported as one message naming the file, line and key.
+
+mod check;
+mod error;
+pub mod fluid;
+pub mod rigid;
+mod spans;
+pub mod structure;
+
+pub use check::Checker;
+pub use error::ScenarioError;
+pub use fluid::FluidSection;
+pub use rigid::RigidSection;
+pub use structure::StructureSection;
+
+use crate::protocol::Role;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A whole scenario file.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    pub run: RunSection,
+    pub coupling: CouplingSection,
+    pub participants: Participants,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fluid: Option<FluidSection>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub structure: Option<StructureSection>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rigid: Option<RigidSection>,
+}
+
+/// `[run]`: what is simulated and for how long.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSection {
+    /// Scene name, used in logs and the manifest.
+    pub name: String,
+    /// Simulated start time [s].
+    #[serde(default)]
+    pub start_time: f64,
+    /// Simulated end time [s].
+    pub end_time: f64,
+    /// Simulated time between `.vtu` outputs [s]; 0 writes only the first and last state.
+    #[serde(default)]
+    pub output_interval: f64,
+}
+
+/// `[coupling]`: the FSI window and its sub-steps (DESIGN.md, "Time stepping").
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CouplingSection {
+    /// FSI window = one fluid step Δt_f [s].
+    pub window: f64,
+    /// Structure sub-steps n_s per window (Δt_s = Δt_f / n_s).
+    #[serde(default = "one")]
+    pub structure_substeps: u32,
+    /// Impulse exchanges between structure and rigid bodies per window; must divide n_s.
+    #[serde(default = "one")]
+    pub impulse_substeps: u32,
+    /// Seconds a participant may take to answer one command before the run is failed.
+    #[serde(default = "default_timeout")]
+    pub timeout: f64,
+}
+
+fn one() -> u32 {
+    1
+}
+fn default_timeout() -> f64 {
+    60.0
+}
+
+/// `[participants]`: the processes this scene starts. A role not listed is not
+/// started and exchanges nothing.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Participants {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fluid: Option<ParticipantSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub structure: Option<ParticipantSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rigid: Option<ParticipantSpec>,
+}
+
+/// Which executable plays a role: any program that speaks the protocol.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticipantSpec {
+    /// A bare name is looked up beside the `coupler` executable, then on PATH;
+    /// a path is taken relative to the scenario file.
+    pub program: String,
+    #[serde(default)]
+    pub args: Vec<String>,
+}
+
+impl Participants {
+    pub fn get(&self, role: Role) -> Option<&ParticipantSpec> {
+        match role {
+            Role::Fluid => self.fluid.as_ref(),
+            Role::Structure => self.structure.as_ref(),
+            Role::Rigid => self.rigid.as_ref(),
+        }
+    }
+
+    pub fn get_mut(&mut self, role: Role) -> Option<&mut ParticipantSpec> {
+        match role {
+            Role::Fluid => self.fluid.as_mut(),
+            Role::Structure => self.structure.as_mut(),
+            Role::Rigid => self.rigid.as_mut(),
+        }
+    }
+
+    /// Listed roles, in schedule order (fluid, structure, rigid).
+    pub fn roles(&self) -> Vec<Role> {
+        Role::ALL
+            .into_iter()
+            .filter(|r| self.get(*r).is_some())
+            .collect()
+    }
+}
+
+impl Scenario {
+    /// Read, parse and check a scenario file.
+    pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::io(path, &e))?;
+        Scenario::parse(path, &text)
+    }
+
+    /// Parse and check scenario text; `path` is only used in messages.
+    pub fn parse(path: &Path, text: &str) -> Result<Scenario, ScenarioError> {
+        let scenario: Scenario =
+            toml::from_str(text).map_err(|e| ScenarioError::from_toml(path, text, &e))?;
+        let mut checker = Checker::default();
+        scenario.check(&mut checker);
+        match checker.into_problem() {
+            None => Ok(scenario),
+            Some(p) => Err(ScenarioError::from_problem(path, text, p)),
+        }
+    }
+
+    /// Parse the resolved scenario a participant receives in its setup.
+    pub fn from_resolved(text: &str) -> Result<Scenario, ScenarioError> {
+        Scenario::parse(Path::new("<resolved scenario>"), text)
+    }
+
+    /// The scenario with every default filled in, as written to the run directory.
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).expect("a scenario always serialises")
+    }
+
+    /// Number of FSI windows from start to end (the last one may be shortened).
+    pub fn windows(&self) -> u64 {
+        let span = self.run.end_time - self.run.start_time;
+        (span / self.coupling.window - 1e-9).ceil().max(1.0) as u64
+    }
+
+    /// Start time and length of window `w`; the last window ends exactly at `end_time`.
+    pub fn window_span(&self, w: u64) -> (f64, f64) {
+        let t = self.run.start_time + w as f64 * self.coupling.window;
+        (t, self.coupling.window.min(self.run.end_time - t))
+    }
+
+    fn check(&self, c: &mut Checker) {
+        let r = &self.run;
+        c.finite_nonneg(&["run", "start_time"], r.start_time);
+        c.finite(&["run", "end_time"], r.end_time);
+        if r.end_time <= r.start_time {
+            c.problem(
+                &["run", "end_time"],
+                format!(
+                    "end_time = {} must be after start_time = {}",
+                    r.end_time, r.start_time
+                ),
+            );
+        }
+        c.finite_nonneg(&["run", "output_interval"], r.output_interval);
+        let k = &self.coupling;
+        c.positive(&["coupling", "window"], k.window, "s");
+        c.nonzero(
+            &["coupling", "structure_substeps"],
+            k.structure_substeps as f64,
+        );
+        c.nonzero(&["coupling", "impulse_substeps"], k.impulse_substeps as f64);
+        if k.impulse_substeps > 0 && k.structure_substeps % k.impulse_substeps != 0 {
+            c.problem(
+                &["coupling", "impulse_substeps"],
+                format!(
+                    "impulse_substeps = {} must divide structure_substeps = {}",
+                    k.impulse_substeps, k.structure_substeps
+                ),
+            );
+        }
+        c.positive(&["coupling", "timeout"], k.timeout, "s");
+        if self.participants.roles().is_empty() {
+            c.problem(
+                &["participants"],
+                "lists no participant: name at least one of fluid, structure, rigid".into(),
+            );
+        }
+        for role in Role::ALL {
+            if let Some(spec) = self.participants.get(role) {
+                if spec.program.trim().is_empty() {
+                    c.problem(
+                        &["participants", role.name(), "program"],
+                        "program is empty".into(),
+                    );
+                }
+            }
+            let has_section = match role {
+                Role::Fluid => self.fluid.is_some(),
+                Role::Structure => self.structure.is_some(),
+                Role::Rigid => self.rigid.is_some(),
+            };
+            let listed = self.participants.get(role).is_some();
+            if listed && !has_section {
+                c.problem(
+                    &["participants", role.name()],
+                    format!(
+                        "participant `{0}` is listed but the scenario has no [{0}] section",
+                        role.name()
+                    ),
+                );
+            }
+            if has_section && !listed {
+                c.problem(
+                    &[role.name()],
+                    format!(
+                        "[{0}] section given but no participant `{0}` is listed in [participants]",
+                        role.name()
+                    ),
+                );
+            }
+        }
+        if let Some(s) = &self.fluid {
+            s.check(c);
+        }
+        if let Some(s) = &self.structure {
+            s.check(c, self.rigid.as_ref());
+        }
+        if let Some(s) = &self.rigid {
+            s.check(c);
+        }
+    }
+}

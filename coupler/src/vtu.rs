@@ -1,0 +1,151 @@
+//! ParaView-readable output: unstructured-grid `.vtu` files (ASCII, every f64
+//! written in its shortest exact form, so a file reads back bit-identical) and
+//! a `.pvd` collection that strings them into a time series.
+//!
+//! Every file is written to a temporary name and renamed, so a run that stops
+//! at any moment leaves only complete files behind.
+
+use std::fmt::Write as _;
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// VTK cell types used by canopy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CellKind {
+    Vertex = 1,
+    Line = 3,
+    Triangle = 5,
+}
+
+impl CellKind {
+    fn arity(self) -> usize {
+        match self {
+            CellKind::Vertex => 1,
+            CellKind::Line => 2,
+            CellKind::Triangle => 3,
+        }
+    }
+}
+
+/// One piece of unstructured grid: points (xyz interleaved), cells of one kind,
+/// and named point data with 1 or 3 components.
+pub struct Piece<'a> {
+    pub points: &'a [f64],
+    pub kind: CellKind,
+    /// Point indices, `kind.arity()` per cell.
+    pub connectivity: &'a [usize],
+    pub point_data: Vec<(&'a str, usize, &'a [f64])>,
+}
+
+fn write_atomic(path: &Path, contents: &str) -> io::Result<()> {
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, contents)?;
+    std::fs::rename(&tmp, path)
+}
+
+fn join(values: &[f64]) -> String {
+    let mut s = String::with_capacity(values.len() * 20);
+    for (i, v) in values.iter().enumerate() {
+        if i > 0 {
+            s.push(' ');
+        }
+        let _ = write!(s, "{v}");
+    }
+    s
+}
+
+/// Write one `.vtu` file.
+pub fn write_vtu(path: &Path, piece: &Piece) -> io::Result<()> {
+    let n_points = piece.points.len() / 3;
+    let arity = piece.kind.arity();
+    let n_cells = piece.connectivity.len() / arity;
+    let mut s = String::new();
+    s.push_str("<?xml version=\"1.0\"?>\n");
+    s.push_str("<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n");
+    let _ = writeln!(
+        s,
+        "<Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{n_cells}\">"
+    );
+    s.push_str("<PointData>\n");
+    for (name, comps, data) in &piece.point_data {
+        let _ = writeln!(
+            s,
+            "<DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{comps}\" format=\"ascii\">{}</DataArray>",
+            join(data)
+        );
+    }
+    s.push_str("</PointData>\n<Points>\n");
+    let _ = writeln!(
+        s,
+        "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">{}</DataArray>",
+        join(piece.points)
+    );
+    s.push_str(
+        "</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">",
+    );
+    let conn: Vec<String> = piece.connectivity.iter().map(|i| i.to_string()).collect();
+    s.push_str(&conn.join(" "));
+    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
+    let offsets: Vec<String> = (1..=n_cells).map(|c| (c * arity).to_string()).collect();
+    s.push_str(&offsets.join(" "));
+    s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
+    let types: Vec<String> = (0..n_cells)
+        .map(|_| (piece.kind as u8).to_string())
+        .collect();
+    s.push_str(&types.join(" "));
+    s.push_str("</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+    write_atomic(path, &s)
+}
+
+/// A `.pvd` time series in the run directory, with its `.vtu` files under `vtk/`.
+pub struct Series {
+    dir: PathBuf,
+    name: String,
+    entries: Vec<(f64, String)>,
+}
+
+impl Series {
+    pub fn new(run_dir: &Path, name: &str) -> Series {
+        Series {
+            dir: run_dir.to_path_buf(),
+            name: name.to_string(),
+            entries: Vec::new(),
+        }
+    }
+
+    /// Write output number `index` at simulated `time` and update the `.pvd`.
+    pub fn write(&mut self, index: u64, time: f64, piece: &Piece) -> io::Result<PathBuf> {
+        std::fs::create_dir_all(self.dir.join("vtk"))?;
+        let rel = format!("vtk/{}_{index:06}.vtu", self.name);
+        let path = self.dir.join(&rel);
+        write_vtu(&path, piece)?;
+        self.entries.push((time, rel));
+        let mut s = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n<Collection>\n");
+        for (t, f) in &self.entries {
+            let _ = writeln!(s, "<DataSet timestep=\"{t}\" part=\"0\" file=\"{f}\"/>");
+        }
+        s.push_str("</Collection>\n</VTKFile>\n");
+        write_atomic(&self.dir.join(format!("{}.pvd", self.name)), &s)?;
+        Ok(path)
+    }
+}
+
+/// Read the points of a `.vtu` written by [`write_vtu`] (for tests and tools).
+pub fn read_points(path: &Path) -> io::Result<Vec<f64>> {
+    let text = std::fs::read_to_string(path)?;
+    let start = text
+        .find("<Points>")
+        .and_then(|p| text[p..].find("format=\"ascii\">").map(|q| p + q + 15))
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidData, "no <Points> array"))?;
+    let end = start
+        + text[start..]
+            .find("</DataArray>")
+            .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidData, "unterminated <Points>"))?;
+    text[start..end]
+        .split_whitespace()
+        .map(|t| {
+            t.parse::<f64>()
+                .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))
+        })
+        .collect()
+}

@@ -1,0 +1,60 @@
+//! fluid-proc: connects the flow models to the coupler.
+
+use coupler::{Command, Field, Monitor, Participant, Role};
+use fluid_proc::porous::{triangles_from_field, Porous};
+
+type Error = Box<dyn std::error::Error>;
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("fluid-proc: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Result<(), Error> {
+    let mut p = Participant::connect(Role::Fluid)?;
+    let section = p
+        .scenario()
+        .fluid
+        .clone()
+        .ok_or("the scenario has no [fluid] section")?;
+    let model = Porous::new(&section);
+    let mut triangles: Option<Vec<[usize; 3]>> = None;
+    let mut windows = 0u64;
+    loop {
+        match p.next_command()? {
+            // No pressure exists before the first window; NaN marks it in monitors.csv.
+            Command::Initialize => p.done(vec![Monitor::new("mean_pressure_jump", f64::NAN)])?,
+            Command::Output { .. } => p.done(Vec::new())?,
+            Command::Advance(_) => {
+                if !p.is_connected(Field::CanopyPositions) {
+                    windows += 1;
+                    p.done(Vec::new())?;
+                    continue;
+                }
+                if triangles.is_none() {
+                    // Connectivity arrives once, at initialisation.
+                    triangles = Some(triangles_from_field(&p.read_field(Field::CanopyTriangles)?));
+                }
+                let tris = triangles.as_deref().unwrap_or(&[]);
+                let x = p.read_field(Field::CanopyPositions)?;
+                let v = p.read_field(Field::CanopyVelocities)?;
+                let mut total = 0.0;
+                p.write_field(Field::CanopyPressure, tris.len(), |out| {
+                    model.pressure(tris, &x, &v, out);
+                    total = out.iter().sum::<f64>();
+                })?;
+                windows += 1;
+                p.done(vec![Monitor::new(
+                    "mean_pressure_jump",
+                    total / tris.len().max(1) as f64,
+                )])?;
+            }
+            Command::Stop => break,
+            Command::Setup(_) => return Err("unexpected second setup".into()),
+        }
+    }
+    p.finish(windows)?;
+    Ok(())
+}

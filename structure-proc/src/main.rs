@@ -1,0 +1,113 @@
+//! structure-proc: connects the spring-mass library to the coupler.
+
+use coupler::{Command, Field, Monitor, Participant, Role};
+use structure_proc::forces::Loads;
+use structure_proc::output::Output;
+use structure_proc::{build_model, Integrator, Model};
+
+type Error = Box<dyn std::error::Error>;
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("structure-proc: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn monitors(m: &Model) -> Vec<Monitor> {
+    let mut v = vec![
+        Monitor::new("kinetic_energy", m.kinetic_energy()),
+        Monitor::new("potential_energy", m.potential_energy()),
+    ];
+    if m.canopy_nodes > 0 {
+        v.push(Monitor::new("centre_deflection", m.centre_deflection()));
+    }
+    v
+}
+
+/// Canopy positions and velocities for the fluid (and, once, its triangles).
+fn publish_canopy(p: &mut Participant, m: &Model, with_triangles: bool) -> Result<(), Error> {
+    let n = 3 * m.canopy_nodes;
+    if with_triangles {
+        p.write_field(Field::CanopyTriangles, 3 * m.triangles.len(), |out| {
+            for (o, &i) in out.iter_mut().zip(m.triangles.iter().flatten()) {
+                *o = i as f64;
+            }
+        })?;
+    }
+    p.write_field(Field::CanopyPositions, n, |out| {
+        out.copy_from_slice(&m.x[..n])
+    })?;
+    p.write_field(Field::CanopyVelocities, n, |out| {
+        out.copy_from_slice(&m.v[..n])
+    })?;
+    Ok(())
+}
+
+fn run() -> Result<(), Error> {
+    let mut p = Participant::connect(Role::Structure)?;
+    let scenario = p.scenario().clone();
+    let section = scenario
+        .structure
+        .as_ref()
+        .ok_or("the scenario has no [structure] section")?;
+    let dt = scenario.coupling.window / scenario.coupling.structure_substeps as f64;
+    let mut m = build_model(section, scenario.rigid.as_ref(), dt)?;
+    let mut integrator = Integrator::new(section.integrator, &m);
+    let mut output = Output::new(p.run_dir(), &m);
+    let mut substeps = 0u64;
+    loop {
+        match p.next_command()? {
+            Command::Initialize => {
+                publish_canopy(&mut p, &m, true)?;
+                p.done(monitors(&m))?;
+            }
+            Command::Advance(step) => {
+                let pressure = match p.is_connected(Field::CanopyPressure) {
+                    true => Some(p.read_field(Field::CanopyPressure)?),
+                    false => None,
+                };
+                if p.is_connected(Field::AttachmentState) {
+                    let state = p.read_field(Field::AttachmentState)?;
+                    m.set_attachments(&state);
+                }
+                let loads = Loads {
+                    pressure: pressure.as_deref().unwrap_or(&[]),
+                };
+                m.dt = step.dt / step.substeps as f64;
+                for _ in 0..step.substeps {
+                    integrator.step(&mut m, &loads);
+                }
+                substeps += step.substeps as u64;
+                if let Some((node, what)) = m.first_non_finite() {
+                    let msg = format!(
+                        "diverged at t = {:.6e} s: node {node} has a non-finite {what}",
+                        step.time + step.dt
+                    );
+                    p.fail(msg.clone())?;
+                    return Err(msg.into());
+                }
+                let n_att = m.attachments.len();
+                p.write_field(Field::AttachmentImpulse, 3 * n_att, |out| {
+                    for (o, a) in out.chunks_exact_mut(3).zip(&m.attachments) {
+                        o.copy_from_slice(&a.impulse);
+                    }
+                })?;
+                if step.window_end {
+                    publish_canopy(&mut p, &m, false)?;
+                    p.done(monitors(&m))?;
+                } else {
+                    p.done(Vec::new())?;
+                }
+            }
+            Command::Output { index, time } => {
+                output.write(&m, index, time)?;
+                p.done(Vec::new())?;
+            }
+            Command::Stop => break,
+            Command::Setup(_) => return Err("unexpected second setup".into()),
+        }
+    }
+    p.finish(substeps)?;
+    Ok(())
+}

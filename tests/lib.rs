@@ -1,0 +1,126 @@
+//! Helpers for canopy's integration tests: build the executables, run the
+//! coupler, read what a run left behind.
+
+use coupler::Scenario;
+use std::path::{Path, PathBuf};
+use std::process::Output;
+use std::sync::Once;
+
+pub fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace root")
+        .to_path_buf()
+}
+
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| workspace().join("target"))
+}
+
+/// Build every executable of the workspace once (release), so tests launch what the README launches.
+pub fn ensure_built() {
+    static BUILD: Once = Once::new();
+    BUILD.call_once(|| {
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let out = std::process::Command::new(cargo)
+            .current_dir(workspace())
+            .args(["build", "--release", "--bins"])
+            .output()
+            .expect("run cargo build");
+        assert!(
+            out.status.success(),
+            "cargo build failed:\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    });
+}
+
+pub fn coupler_exe() -> PathBuf {
+    ensure_built();
+    target_dir().join("release").join("coupler")
+}
+
+/// A fresh, empty scratch directory for one test.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("canopy-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create scratch dir");
+    dir
+}
+
+pub fn scenario_path(name: &str) -> PathBuf {
+    workspace().join("scenarios").join(format!("{name}.toml"))
+}
+
+/// Load a shipped scenario, change it, and write it into `dir`.
+pub fn variant(name: &str, dir: &Path, change: impl FnOnce(&mut Scenario)) -> PathBuf {
+    let mut s = Scenario::load(&scenario_path(name)).expect("shipped scenario parses");
+    change(&mut s);
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, s.to_toml()).expect("write scenario");
+    path
+}
+
+pub fn coupler(args: &[&str]) -> Output {
+    std::process::Command::new(coupler_exe())
+        .args(args)
+        .output()
+        .expect("run coupler")
+}
+
+/// Run a scenario into `out`; panics with the coupler's stderr if it fails.
+pub fn run_ok(scenario: &Path, out: &Path) {
+    let o = coupler(&[
+        "run",
+        scenario.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        o.status.success(),
+        "run of {} failed:\n{}",
+        scenario.display(),
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// `monitors.csv` as columns.
+pub struct Monitors {
+    pub header: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Monitors {
+    pub fn read(run: &Path) -> Monitors {
+        let text = std::fs::read_to_string(run.join("monitors.csv")).expect("monitors.csv");
+        let mut lines = text.lines();
+        let header = lines
+            .next()
+            .expect("header")
+            .split(',')
+            .map(String::from)
+            .collect();
+        let rows = lines
+            .map(|l| l.split(',').map(|v| v.parse().expect("number")).collect())
+            .collect();
+        Monitors { header, rows }
+    }
+
+    pub fn column(&self, name: &str) -> Vec<f64> {
+        let i = self
+            .header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name} in {:?}", self.header));
+        self.rows.iter().map(|r| r[i]).collect()
+    }
+}
+
+pub fn manifest(run: &Path) -> serde_json::Value {
+    serde_json::from_str(
+        &std::fs::read_to_string(run.join("manifest.json")).expect("manifest.json"),
+    )
+    .expect("manifest parses")
+}

@@ -1,0 +1,87 @@
+//! The porous annulus canopy of seed 003 §3.2, coupled between fluid-proc
+//! (porous free-stream Ergun load, seed 003 eqs. 6–10) and structure-proc.
+
+use canopy_tests::*;
+use coupler::vtu;
+use fluid_proc::Porous;
+use structure_proc::forces::Loads;
+use structure_proc::{build_model, Integrator};
+
+#[test]
+fn canopy_settles_to_equilibrium() {
+    let dir = scratch("settle");
+    run_ok(&scenario_path("canopy-porous"), &dir.join("run"));
+    let m = Monitors::read(&dir.join("run"));
+    let ke = m.column("kinetic_energy");
+    let d = m.column("structure.centre_deflection");
+    let peak = ke.iter().cloned().fold(0.0, f64::max);
+    let last = *ke.last().unwrap();
+    assert!(
+        peak >= 1e3 * last,
+        "kinetic energy fell only from {peak} to {last}"
+    );
+    let tail = &d[d.len() * 9 / 10..];
+    let (lo, hi) = tail
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), v| (l.min(*v), h.max(*v)));
+    let final_d = *d.last().unwrap();
+    assert!(
+        final_d > 0.0,
+        "the upward stream must push the canopy up, got {final_d}"
+    );
+    assert!(
+        (hi - lo) < 1e-3 * final_d.abs(),
+        "deflection still moves: {lo}..{hi}"
+    );
+}
+
+#[test]
+fn transport_changes_no_number() {
+    let dir = scratch("bitexact");
+    let path = variant("canopy-porous", &dir, |s| {
+        s.run.end_time = 0.5;
+        s.run.output_interval = 0.0;
+    });
+    run_ok(&path, &dir.join("run"));
+    let s = coupler::Scenario::load(&path).unwrap();
+
+    // The same model stepped in this process, with no IPC, in the schedule's order:
+    // per window the fluid load from the last published state, then n_s structure steps.
+    let section = s.structure.as_ref().unwrap();
+    let mut model = build_model(
+        section,
+        None,
+        s.coupling.window / s.coupling.structure_substeps as f64,
+    )
+    .unwrap();
+    let mut integrator = Integrator::new(section.integrator, &model);
+    let porous = Porous::new(s.fluid.as_ref().unwrap());
+    let n = model.canopy_nodes;
+    let mut pressure = vec![0.0; model.triangles.len()];
+    for w in 0..s.windows() {
+        let (_, dt) = s.window_span(w);
+        porous.pressure(
+            &model.triangles,
+            &model.x[..3 * n],
+            &model.v[..3 * n],
+            &mut pressure,
+        );
+        model.dt = dt / s.coupling.structure_substeps as f64;
+        for _ in 0..s.coupling.structure_substeps {
+            integrator.step(
+                &mut model,
+                &Loads {
+                    pressure: &pressure,
+                },
+            );
+        }
+    }
+    let written = vtu::read_points(&dir.join("run/vtk/canopy_000001.vtu")).unwrap();
+    assert_eq!(written.len(), 3 * n);
+    let differing = written
+        .iter()
+        .zip(&model.x)
+        .filter(|(a, b)| a.to_bits() != b.to_bits())
+        .count();
+    assert_eq!(differing, 0, "{differing} of {} coordinates differ", 3 * n);
+}
