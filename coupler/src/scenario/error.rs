@@ -45,7 +45,14 @@ impl ScenarioError {
             line,
             column,
             key,
-            message: e.message().trim().to_string(),
+            // toml's messages can span lines; the user gets one line.
+            message: e
+                .message()
+                .trim()
+                .lines()
+                .map(str::trim)
+                .collect::<Vec<_>>()
+                .join("; "),
         }
     }
 

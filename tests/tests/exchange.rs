@@ -1,0 +1,215 @@
+//! The coupling exchange between real processes: bit-exact fields, the
+//! schedule each participant sees, failure handling, isolation of runs.
+
+use canopy_tests::*;
+use coupler::launcher::bench::{End, Peer};
+use std::time::{Duration, Instant};
+
+/// xorshift64*: random bit patterns, NaN payloads and subnormals included.
+fn random_bits(n: usize, seed: u64) -> Vec<f64> {
+    let mut s = seed | 1;
+    (0..n)
+        .map(|_| {
+            s ^= s >> 12;
+            s ^= s << 25;
+            s ^= s >> 27;
+            f64::from_bits(s.wrapping_mul(0x2545_f491_4f6c_dd1d))
+        })
+        .collect()
+}
+
+#[test]
+fn fields_arrive_bit_exact_from_1_to_a_million_values() {
+    let run = format!("bitexact{}", std::process::id());
+    let end = End::open(&run, true, 1 << 20).unwrap();
+    let _peer = Peer::start(&coupler_exe(), &run, true).unwrap();
+    let never = || false;
+    for (k, n) in [1usize, 2, 3, 10, 1000, 4097, 100_000, 1_000_000]
+        .into_iter()
+        .enumerate()
+    {
+        let mut data = random_bits(n, 0x9e37_79b9 + k as u64);
+        data[0] = if n > 1 { -0.0 } else { data[0] };
+        end.send(n, |out| out.copy_from_slice(&data)).unwrap();
+        let back = end
+            .receive(Duration::from_secs(10), &never, |pong| pong.to_vec())
+            .unwrap();
+        assert_eq!(back.len(), n);
+        let differing = back
+            .iter()
+            .zip(&data)
+            .filter(|(a, b)| a.to_bits() != b.to_bits())
+            .count();
+        assert_eq!(differing, 0, "{differing} of {n} values changed in transit");
+    }
+}
+
+#[test]
+fn each_participant_sees_the_scheduled_substeps() {
+    let dir = scratch("counts");
+    let pendulum = variant("pendulum", &dir, |s| {
+        s.run.end_time = 0.05;
+        s.coupling.window = 1e-3;
+        s.coupling.structure_substeps = 6;
+        s.coupling.impulse_substeps = 3;
+    });
+    run_ok(&pendulum, &dir.join("p"));
+    let m = manifest(&dir.join("p"));
+    let windows = m["schedule"]["windows"].as_u64().unwrap();
+    assert_eq!(windows, 50);
+    let substeps = |role: &str| {
+        m["processes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["role"] == role)
+            .unwrap()["substeps"]
+            .as_u64()
+            .unwrap()
+    };
+    assert_eq!(substeps("structure"), windows * 6);
+    assert_eq!(substeps("rigid"), windows * 3);
+
+    let canopy = variant("canopy-porous", &dir, |s| {
+        s.run.end_time = 0.1;
+        s.coupling.structure_substeps = 5;
+    });
+    run_ok(&canopy, &dir.join("c"));
+    let m = manifest(&dir.join("c"));
+    let windows = m["schedule"]["windows"].as_u64().unwrap();
+    assert_eq!(windows, 50);
+    let substeps = |role: &str| {
+        m["processes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["role"] == role)
+            .unwrap()["substeps"]
+            .as_u64()
+            .unwrap()
+    };
+    assert_eq!(substeps("fluid"), windows);
+    assert_eq!(substeps("structure"), windows * 5);
+}
+
+/// Children of `pid`, from /proc.
+fn children_of(pid: u32) -> Vec<(u32, String)> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(p) = entry.file_name().to_string_lossy().parse::<u32>() else {
+            continue;
+        };
+        let Ok(stat) = std::fs::read_to_string(format!("/proc/{p}/stat")) else {
+            continue;
+        };
+        // pid (comm) state ppid …: comm may hold spaces, so split after the last ')'.
+        let Some(close) = stat.rfind(')') else {
+            continue;
+        };
+        let fields: Vec<&str> = stat[close + 2..].split_whitespace().collect();
+        if fields.get(1).and_then(|f| f.parse::<u32>().ok()) == Some(pid) {
+            let comm = stat[stat.find('(').unwrap() + 1..close].to_string();
+            out.push((p, comm));
+        }
+    }
+    out
+}
+
+fn alive(pid: u32) -> bool {
+    // SAFETY: signal 0 only checks that the process exists.
+    unsafe { libc::kill(pid as i32, 0) == 0 }
+}
+
+#[test]
+fn a_killed_participant_fails_the_run_within_two_seconds() {
+    let dir = scratch("sigkill");
+    let path = variant("pendulum", &dir, |s| s.run.end_time = 1e5);
+    let out = dir.join("run");
+    let mut coupler = std::process::Command::new(coupler_exe())
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the run is under way (monitors are being written).
+    let started = Instant::now();
+    let kids = loop {
+        let kids = children_of(coupler.id());
+        let rows = std::fs::read_to_string(out.join("monitors.csv"))
+            .map(|t| t.lines().count())
+            .unwrap_or(0);
+        if kids.len() == 2 && rows > 1 {
+            break kids;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(20),
+            "the run did not start: {kids:?}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    std::thread::sleep(Duration::from_millis(300));
+    let (victim, _) = kids
+        .iter()
+        .find(|(_, c)| c.starts_with("structure"))
+        .expect("structure-proc runs")
+        .clone();
+    let killed = Instant::now();
+    // SAFETY: plain syscall on a child of the coupler we started.
+    unsafe { libc::kill(victim as i32, libc::SIGKILL) };
+    let status = coupler.wait().unwrap();
+    let took = killed.elapsed();
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(coupler.stderr.as_mut().unwrap(), &mut stderr).unwrap();
+
+    assert!(!status.success(), "the run must fail");
+    assert_eq!(status.code(), Some(1));
+    assert!(took < Duration::from_secs(2), "took {took:?}");
+    assert!(
+        stderr.contains("participant `structure`") && stderr.contains("SIGKILL"),
+        "message: {stderr}"
+    );
+    for (pid, comm) in &kids {
+        assert!(!alive(*pid), "{comm} ({pid}) is still alive");
+    }
+    let m = manifest(&out);
+    assert_eq!(m["status"], "failed");
+    assert_eq!(m["culprit"], "structure");
+    let run_id = m["run_id"].as_str().unwrap();
+    assert_eq!(
+        coupler::channel::services_of_run(run_id),
+        Vec::<String>::new(),
+        "stale services left"
+    );
+    // What was written stays readable.
+    let monitors = Monitors::read(&out);
+    assert!(monitors.rows.len() > 1);
+}
+
+#[test]
+fn two_runs_of_one_scenario_at_once_do_not_interfere() {
+    let dir = scratch("twice");
+    let path = variant("pendulum", &dir, |s| s.run.end_time = 1.0);
+    let start = |name: &str| {
+        std::process::Command::new(coupler_exe())
+            .args([
+                "run",
+                path.to_str().unwrap(),
+                "--out",
+                dir.join(name).to_str().unwrap(),
+            ])
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap()
+    };
+    let (mut a, mut b) = (start("a"), start("b"));
+    assert!(a.wait().unwrap().success() && b.wait().unwrap().success());
+    let (ma, mb) = (manifest(&dir.join("a")), manifest(&dir.join("b")));
+    assert_ne!(ma["run_id"], mb["run_id"]);
+    // Deterministic physics: both runs produce the same monitors, bit for bit.
+    let read = |n: &str| std::fs::read_to_string(dir.join(n).join("monitors.csv")).unwrap();
+    assert_eq!(read("a"), read("b"));
+}

@@ -1,0 +1,361 @@
+//! Malformed scenarios: each gets one message naming the file, the line and the
+//! key, and exit code 2, never a panic.
+
+use canopy_tests::*;
+
+struct Case {
+    name: &'static str,
+    /// Turn the shipped pendulum scenario into the bad one.
+    edit: fn(&str) -> String,
+    /// The key the message must name (None: the problem has no key, e.g. a syntax error).
+    key: Option<&'static str>,
+    /// A phrase the message must contain.
+    says: &'static str,
+    /// Text on the line the message must point at.
+    line_of: Option<&'static str>,
+}
+
+fn replace(text: &str, from: &str, to: &str) -> String {
+    assert!(
+        text.contains(from),
+        "the pendulum scenario no longer contains {from:?}"
+    );
+    text.replacen(from, to, 1)
+}
+
+const CASES: &[Case] = &[
+    Case {
+        name: "unknown-table",
+        edit: |t| format!("{t}\n[bogus]\nx = 1\n"),
+        key: Some("bogus"),
+        says: "unknown field `bogus`",
+        line_of: Some("[bogus]"),
+    },
+    Case {
+        name: "unknown-key",
+        edit: |t| replace(t, "end_time = 10.0", "end_time = 10.0\ncolour = \"red\""),
+        key: Some("run.colour"),
+        says: "unknown field `colour`",
+        line_of: Some("colour"),
+    },
+    Case {
+        name: "unknown-body-key",
+        edit: |t| replace(t, "mass = 1.0", "mass = 1.0\nmas = 2.0"),
+        key: Some("rigid.bodies[0].mas"),
+        says: "unknown field `mas`",
+        line_of: Some("mas = 2.0"),
+    },
+    Case {
+        name: "wrong-type",
+        edit: |t| replace(t, "end_time = 10.0", "end_time = \"ten\""),
+        key: Some("run.end_time"),
+        says: "invalid type: string",
+        line_of: Some("end_time"),
+    },
+    Case {
+        name: "wrong-type-int",
+        edit: |t| replace(t, "structure_substeps = 4", "structure_substeps = 4.5"),
+        key: Some("coupling.structure_substeps"),
+        says: "invalid type",
+        line_of: Some("structure_substeps"),
+    },
+    Case {
+        name: "missing-value",
+        edit: |t| replace(t, "end_time = 10.0\n", ""),
+        key: Some("run"),
+        says: "missing field `end_time`",
+        line_of: Some("[run]"),
+    },
+    Case {
+        name: "missing-mass",
+        edit: |t| replace(t, "mass = 1.0\n", ""),
+        key: Some("rigid.bodies[0]"),
+        says: "missing field `mass`",
+        line_of: None,
+    },
+    Case {
+        name: "negative-mass",
+        edit: |t| replace(t, "mass = 1.0", "mass = -1.0"),
+        key: Some("rigid.bodies[0].mass"),
+        says: "must be > 0 kg",
+        line_of: Some("mass = -1.0"),
+    },
+    Case {
+        name: "zero-mass",
+        edit: |t| replace(t, "mass = 1.0", "mass = 0.0"),
+        key: Some("rigid.bodies[0].mass"),
+        says: "must be > 0 kg",
+        line_of: Some("mass = 0.0"),
+    },
+    Case {
+        name: "zero-window",
+        edit: |t| replace(t, "window = 1e-3", "window = 0.0"),
+        key: Some("coupling.window"),
+        says: "must be > 0 s",
+        line_of: Some("window = 0.0"),
+    },
+    Case {
+        name: "negative-window",
+        edit: |t| replace(t, "window = 1e-3", "window = -1e-3"),
+        key: Some("coupling.window"),
+        says: "must be > 0 s",
+        line_of: Some("window = -1e-3"),
+    },
+    Case {
+        name: "zero-substeps",
+        edit: |t| replace(t, "structure_substeps = 4", "structure_substeps = 0"),
+        key: Some("coupling.structure_substeps"),
+        says: "must be at least 1",
+        line_of: Some("structure_substeps = 0"),
+    },
+    Case {
+        name: "zero-impulse-substeps",
+        edit: |t| replace(t, "impulse_substeps = 4", "impulse_substeps = 0"),
+        key: Some("coupling.impulse_substeps"),
+        says: "must be at least 1",
+        line_of: Some("impulse_substeps = 0"),
+    },
+    Case {
+        name: "impulse-not-dividing",
+        edit: |t| replace(t, "impulse_substeps = 4", "impulse_substeps = 3"),
+        key: Some("coupling.impulse_substeps"),
+        says: "must divide structure_substeps",
+        line_of: Some("impulse_substeps = 3"),
+    },
+    Case {
+        name: "end-before-start",
+        edit: |t| replace(t, "end_time = 10.0", "start_time = 20.0\nend_time = 10.0"),
+        key: Some("run.end_time"),
+        says: "must be after start_time",
+        line_of: Some("end_time = 10.0"),
+    },
+    Case {
+        name: "non-finite",
+        edit: |t| replace(t, "end_time = 10.0", "end_time = nan"),
+        key: Some("run.end_time"),
+        says: "finite",
+        line_of: Some("end_time = nan"),
+    },
+    Case {
+        name: "zero-timeout",
+        edit: |t| {
+            replace(
+                t,
+                "impulse_substeps = 4",
+                "impulse_substeps = 4\ntimeout = 0",
+            )
+        },
+        key: Some("coupling.timeout"),
+        says: "must be > 0 s",
+        line_of: Some("timeout = 0"),
+    },
+    Case {
+        name: "negative-timeout",
+        edit: |t| {
+            replace(
+                t,
+                "impulse_substeps = 4",
+                "impulse_substeps = 4\ntimeout = -1.0",
+            )
+        },
+        key: Some("coupling.timeout"),
+        says: "must be > 0 s",
+        line_of: Some("timeout = -1.0"),
+    },
+    Case {
+        name: "missing-program",
+        edit: |t| {
+            replace(
+                t,
+                "program = \"rigid-proc\"",
+                "program = \"no-such-solver\"",
+            )
+        },
+        key: Some("participants.rigid.program"),
+        says: "program `no-such-solver` not found",
+        line_of: Some("no-such-solver"),
+    },
+    Case {
+        name: "program-path",
+        edit: |t| {
+            replace(
+                t,
+                "program = \"rigid-proc\"",
+                "program = \"./nothing/here\"",
+            )
+        },
+        key: Some("participants.rigid.program"),
+        says: "is not an executable file",
+        line_of: Some("./nothing/here"),
+    },
+    Case {
+        name: "unknown-integrator",
+        edit: |t| {
+            replace(
+                t,
+                "integrator = \"euler-cromer\"",
+                "integrator = \"leapfrog\"",
+            )
+        },
+        key: Some("structure.integrator"),
+        says: "unknown variant `leapfrog`",
+        line_of: Some("leapfrog"),
+    },
+    Case {
+        name: "unknown-body",
+        edit: |t| replace(t, "body = \"ball\"", "body = \"moon\""),
+        key: Some("structure.strings[0].body"),
+        says: "no rigid body is named `moon`",
+        line_of: Some("moon"),
+    },
+    Case {
+        name: "negative-stiffness",
+        edit: |t| replace(t, "stiffness = 1.0e5", "stiffness = -1.0e5"),
+        key: Some("structure.strings[0].stiffness"),
+        says: "must be > 0 N/m",
+        line_of: Some("stiffness = -1.0e5"),
+    },
+    Case {
+        name: "zero-rest-length",
+        edit: |t| replace(t, "rest_length = 1.0", "rest_length = 0.0"),
+        key: Some("structure.strings[0].rest_length"),
+        says: "must be > 0 m",
+        line_of: Some("rest_length = 0.0"),
+    },
+    Case {
+        name: "negative-damping",
+        edit: |t| replace(t, "linear_damping = 0.0", "linear_damping = -0.1"),
+        key: Some("rigid.bodies[0].linear_damping"),
+        says: "must be ≥ 0",
+        line_of: Some("linear_damping = -0.1"),
+    },
+    Case {
+        name: "duplicate-body",
+        edit: |t| {
+            format!(
+                "{t}\n[[rigid.bodies]]\nname = \"ball\"\nmass = 2.0\nposition = [0.0, 0.0, -2.0]\n"
+            )
+        },
+        key: Some("rigid.bodies[1].name"),
+        says: "used twice",
+        line_of: Some("name = \"ball\"\nmass = 2.0"),
+    },
+    Case {
+        name: "short-vector",
+        edit: |t| {
+            replace(
+                t,
+                "gravity = [0.0, 0.0, -9.81]\n\n[[rigid",
+                "gravity = [0.0, -9.81]\n\n[[rigid",
+            )
+        },
+        key: Some("rigid.gravity"),
+        says: "invalid length 2",
+        line_of: Some("gravity = [0.0, -9.81]"),
+    },
+    Case {
+        name: "section-without-participant",
+        edit: |t| replace(t, "[participants.rigid]\nprogram = \"rigid-proc\"\n", ""),
+        key: Some("rigid"),
+        says: "no participant `rigid` is listed",
+        line_of: Some("[rigid]"),
+    },
+    Case {
+        name: "participant-without-section",
+        edit: |t| {
+            replace(
+                t,
+                "[participants.rigid]",
+                "[participants.fluid]\nprogram = \"fluid-proc\"\n\n[participants.rigid]",
+            )
+        },
+        key: Some("participants.fluid"),
+        says: "has no [fluid] section",
+        line_of: Some("[participants.fluid]"),
+    },
+    Case {
+        name: "syntax-error",
+        edit: |t| replace(t, "end_time = 10.0", "end_time = = 10.0"),
+        key: None,
+        says: "invalid string",
+        line_of: Some("end_time = = 10.0"),
+    },
+];
+
+/// 1-based line of the first occurrence of `needle` (which may span lines: its first line counts).
+fn line_of(text: &str, needle: &str) -> usize {
+    let at = text
+        .find(needle)
+        .unwrap_or_else(|| panic!("{needle:?} not in the bad scenario"));
+    text[..at].matches('\n').count() + 1
+}
+
+#[test]
+fn every_malformed_scenario_gets_its_own_message_and_exit_code_2() {
+    assert!(CASES.len() >= 20);
+    let dir = scratch("malformed");
+    let good = std::fs::read_to_string(scenario_path("pendulum")).unwrap();
+    let mut failures = Vec::new();
+    for case in CASES {
+        let text = (case.edit)(&good);
+        let path = dir.join(format!("{}.toml", case.name));
+        std::fs::write(&path, &text).unwrap();
+        let out = coupler(&["check", path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        let mut wrong = Vec::new();
+        if out.status.code() != Some(2) {
+            wrong.push(format!("exit {:?}", out.status.code()));
+        }
+        if stderr.contains("panicked") {
+            wrong.push("panicked".into());
+        }
+        if stderr.trim().lines().count() != 1 {
+            wrong.push("not one line".into());
+        }
+        if !stderr.contains(&format!("{}:", path.display())) {
+            wrong.push("no file name".into());
+        }
+        if let Some(key) = case.key {
+            if !stderr.contains(&format!("key `{key}`")) {
+                wrong.push(format!("no key `{key}`"));
+            }
+        }
+        if !stderr.contains(case.says) {
+            wrong.push(format!("does not say {:?}", case.says));
+        }
+        if let Some(marker) = case.line_of {
+            let line = line_of(&text, marker);
+            if !stderr.contains(&format!("{}:{line}:", path.display())) {
+                wrong.push(format!("not at line {line}"));
+            }
+        }
+        if !wrong.is_empty() {
+            failures.push(format!(
+                "{}: {} — got: {}",
+                case.name,
+                wrong.join(", "),
+                stderr.trim()
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+}
+
+#[test]
+fn a_missing_scenario_file_is_bad_input() {
+    let out = coupler(&["check", "/nonexistent/scenario.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read the scenario"));
+}
+
+#[test]
+fn the_shipped_scenarios_pass_check() {
+    for name in ["pendulum", "canopy-porous"] {
+        let out = coupler(&["check", scenario_path(name).to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
