@@ -123,34 +123,7 @@ fn alive(pid: u32) -> bool {
 #[test]
 fn a_killed_participant_fails_the_run_within_two_seconds() {
     let dir = scratch("sigkill");
-    let path = variant("pendulum", &dir, |s| s.run.end_time = 1e5);
-    let out = dir.join("run");
-    let mut coupler = std::process::Command::new(coupler_exe())
-        .args([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    // Wait until the run is under way (monitors are being written).
-    let started = Instant::now();
-    let kids = loop {
-        let kids = children_of(coupler.id());
-        let rows = std::fs::read_to_string(out.join("monitors.csv"))
-            .map(|t| t.lines().count())
-            .unwrap_or(0);
-        if kids.len() == 2 && rows > 1 {
-            break kids;
-        }
-        assert!(
-            started.elapsed() < Duration::from_secs(20),
-            "the run did not start: {kids:?}"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let (mut coupler, kids, out) = start_long_run(&dir, 60.0);
     std::thread::sleep(Duration::from_millis(300));
     let (victim, _) = kids
         .iter()
@@ -212,4 +185,63 @@ fn two_runs_of_one_scenario_at_once_do_not_interfere() {
     // Deterministic physics: both runs produce the same monitors, bit for bit.
     let read = |n: &str| std::fs::read_to_string(dir.join(n).join("monitors.csv")).unwrap();
     assert_eq!(read("a"), read("b"));
+}
+
+/// Start a long pendulum run and wait until both participants are up.
+fn start_long_run(dir: &std::path::Path, timeout: f64) -> (std::process::Child, Vec<(u32, String)>, std::path::PathBuf) {
+    let path = variant("pendulum", dir, |s| {
+        s.run.end_time = 1e5;
+        s.coupling.timeout = timeout;
+    });
+    let out = dir.join("run");
+    let child = std::process::Command::new(coupler_exe())
+        .args(["run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    loop {
+        let kids = children_of(child.id());
+        let rows = std::fs::read_to_string(out.join("monitors.csv")).map(|t| t.lines().count()).unwrap_or(0);
+        if kids.len() == 2 && rows > 1 {
+            return (child, kids, out);
+        }
+        assert!(started.elapsed() < Duration::from_secs(20), "the run did not start");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn a_participant_that_stops_answering_fails_the_run_after_the_timeout() {
+    let dir = scratch("hang");
+    let (mut coupler, kids, out) = start_long_run(&dir, 1.0);
+    let (victim, _) = kids.iter().find(|(_, c)| c.starts_with("rigid")).unwrap().clone();
+    // SAFETY: plain syscall on a child of the coupler we started.
+    unsafe { libc::kill(victim as i32, libc::SIGSTOP) };
+    let status = coupler.wait().unwrap();
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(coupler.stderr.as_mut().unwrap(), &mut stderr).unwrap();
+    assert_eq!(status.code(), Some(1));
+    assert!(stderr.contains("participant `rigid` did not answer within 1.0 s"), "{stderr}");
+    for (pid, comm) in &kids {
+        assert!(!alive(*pid), "{comm} ({pid}) is still alive");
+    }
+    assert_eq!(manifest(&out)["culprit"], "rigid");
+}
+
+#[test]
+fn ctrl_c_stops_everything_cleanly() {
+    let dir = scratch("ctrlc");
+    let (mut coupler, kids, out) = start_long_run(&dir, 60.0);
+    // SAFETY: plain syscall on the coupler we started.
+    unsafe { libc::kill(coupler.id() as i32, libc::SIGINT) };
+    let status = coupler.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    for (pid, comm) in &kids {
+        assert!(!alive(*pid), "{comm} ({pid}) is still alive");
+    }
+    let m = manifest(&out);
+    assert_eq!(m["status"], "interrupted");
+    assert_eq!(coupler::channel::services_of_run(m["run_id"].as_str().unwrap()), Vec::<String>::new());
+    assert!(Monitors::read(&out).rows.len() > 1);
 }
