@@ -149,3 +149,47 @@ pub fn read_points(path: &Path) -> io::Result<Vec<f64>> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn points_read_back_bit_identical() {
+        let dir = std::env::temp_dir().join(format!("canopy-vtu-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let points = [
+            0.1,
+            -0.0,
+            1e-310,
+            1.0 / 3.0,
+            f64::MAX,
+            -2.5e-7,
+            7.0,
+            8.0,
+            9.0,
+        ];
+        let mut series = Series::new(&dir, "t");
+        let path = series
+            .write(
+                0,
+                0.0,
+                &Piece {
+                    points: &points,
+                    kind: CellKind::Triangle,
+                    connectivity: &[0, 1, 2],
+                    point_data: vec![],
+                },
+            )
+            .unwrap();
+        let back = read_points(&path).unwrap();
+        assert!(back
+            .iter()
+            .zip(&points)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert!(std::fs::read_to_string(dir.join("t.pvd"))
+            .unwrap()
+            .contains("vtk/t_000000.vtu"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

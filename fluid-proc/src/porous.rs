@@ -71,3 +71,60 @@ pub fn triangles_from_field(field: &[f64]) -> Vec<[usize; 3]> {
         .map(|t| [t[0] as usize, t[1] as usize, t[2] as usize])
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use coupler::scenario::fluid::FluidModel;
+
+    fn section(v: f64) -> FluidSection {
+        FluidSection {
+            model: FluidModel::PorousFreeStream,
+            free_stream: [0.0, 0.0, v],
+            density: 1.2,
+            viscosity: 1.8e-5,
+            porosity: 0.4,
+            diameter: 2e-3,
+            thickness: 1e-4,
+        }
+    }
+
+    #[test]
+    fn jump_follows_the_ergun_law() {
+        // Seed 003 eqs. (6)–(9) evaluated by hand for ε = 0.4, D = 2 mm, μ = 1.8e-5, ρ = 1.2.
+        let p = Porous::new(&section(10.0));
+        let a = 1.8e-5 * 150.0 * 0.36 / (4e-6 * 0.16);
+        let b = 1.2 * 1.75 * 0.6 / (2e-3 * 0.16);
+        assert!((p.a / a - 1.0).abs() < 1e-14 && (p.b / b - 1.0).abs() < 1e-14);
+        // A flat triangle facing +z in a +z stream of 10 m/s: v_f = ε·10 = 4 m/s.
+        let tri = [[0, 1, 2]];
+        let x = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        let mut out = [0.0];
+        p.pressure(&tri, &x, &[0.0; 9], &mut out);
+        let expected = 1e-4 * (a * 4.0 + b * 16.0);
+        assert!(
+            (out[0] / expected - 1.0).abs() < 1e-14,
+            "{} vs {expected}",
+            out[0]
+        );
+        // Reversed vertex order flips the normal and so the sign of the jump;
+        // a triangle moving with the air sees no seepage and no load.
+        p.pressure(&[[0, 2, 1]], &x, &[0.0; 9], &mut out);
+        assert!((out[0] + expected).abs() < 1e-12 * expected);
+        let v = [0.0, 0.0, 10.0, 0.0, 0.0, 10.0, 0.0, 0.0, 10.0];
+        p.pressure(&tri, &x, &v, &mut out);
+        assert_eq!(out[0], 0.0);
+    }
+
+    #[test]
+    fn only_the_normal_component_seeps_through() {
+        // Seed 003 eq. (10): a stream along the fabric exerts no load.
+        let mut s = section(0.0);
+        s.free_stream = [30.0, -20.0, 0.0];
+        let p = Porous::new(&s);
+        let x = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        let mut out = [1.0];
+        p.pressure(&[[0, 1, 2]], &x, &[0.0; 9], &mut out);
+        assert_eq!(out[0], 0.0);
+    }
+}

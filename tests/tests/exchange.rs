@@ -188,25 +188,38 @@ fn two_runs_of_one_scenario_at_once_do_not_interfere() {
 }
 
 /// Start a long pendulum run and wait until both participants are up.
-fn start_long_run(dir: &std::path::Path, timeout: f64) -> (std::process::Child, Vec<(u32, String)>, std::path::PathBuf) {
+fn start_long_run(
+    dir: &std::path::Path,
+    timeout: f64,
+) -> (std::process::Child, Vec<(u32, String)>, std::path::PathBuf) {
     let path = variant("pendulum", dir, |s| {
         s.run.end_time = 1e5;
         s.coupling.timeout = timeout;
     });
     let out = dir.join("run");
     let child = std::process::Command::new(coupler_exe())
-        .args(["run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
     let started = Instant::now();
     loop {
         let kids = children_of(child.id());
-        let rows = std::fs::read_to_string(out.join("monitors.csv")).map(|t| t.lines().count()).unwrap_or(0);
+        let rows = std::fs::read_to_string(out.join("monitors.csv"))
+            .map(|t| t.lines().count())
+            .unwrap_or(0);
         if kids.len() == 2 && rows > 1 {
             return (child, kids, out);
         }
-        assert!(started.elapsed() < Duration::from_secs(20), "the run did not start");
+        assert!(
+            started.elapsed() < Duration::from_secs(20),
+            "the run did not start"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
 }
@@ -215,14 +228,21 @@ fn start_long_run(dir: &std::path::Path, timeout: f64) -> (std::process::Child, 
 fn a_participant_that_stops_answering_fails_the_run_after_the_timeout() {
     let dir = scratch("hang");
     let (mut coupler, kids, out) = start_long_run(&dir, 1.0);
-    let (victim, _) = kids.iter().find(|(_, c)| c.starts_with("rigid")).unwrap().clone();
+    let (victim, _) = kids
+        .iter()
+        .find(|(_, c)| c.starts_with("rigid"))
+        .unwrap()
+        .clone();
     // SAFETY: plain syscall on a child of the coupler we started.
     unsafe { libc::kill(victim as i32, libc::SIGSTOP) };
     let status = coupler.wait().unwrap();
     let mut stderr = String::new();
     std::io::Read::read_to_string(coupler.stderr.as_mut().unwrap(), &mut stderr).unwrap();
     assert_eq!(status.code(), Some(1));
-    assert!(stderr.contains("participant `rigid` did not answer within 1.0 s"), "{stderr}");
+    assert!(
+        stderr.contains("participant `rigid` did not answer within 1.0 s"),
+        "{stderr}"
+    );
     for (pid, comm) in &kids {
         assert!(!alive(*pid), "{comm} ({pid}) is still alive");
     }
@@ -242,6 +262,9 @@ fn ctrl_c_stops_everything_cleanly() {
     }
     let m = manifest(&out);
     assert_eq!(m["status"], "interrupted");
-    assert_eq!(coupler::channel::services_of_run(m["run_id"].as_str().unwrap()), Vec::<String>::new());
+    assert_eq!(
+        coupler::channel::services_of_run(m["run_id"].as_str().unwrap()),
+        Vec::<String>::new()
+    );
     assert!(Monitors::read(&out).rows.len() > 1);
 }
