@@ -25,7 +25,6 @@ enum End {
 }
 
 pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
-    let started = Instant::now();
     let mut checked = match super::load_checked(scenario_path) {
         Ok(c) => c,
         Err(e) => {
@@ -48,6 +47,8 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
             *program = Program::Found(path);
         }
     }
+    // Timing starts after any first-run build of the solvers.
+    let started = Instant::now();
     let scenario = checked.scenario.clone();
     let run_dir = out.unwrap_or_else(|| {
         let stamp = std::time::SystemTime::now()
