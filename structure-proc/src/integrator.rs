@@ -47,51 +47,46 @@ impl Integrator {
     /// Seed 003 eqs. (37)–(40). Eq. (39) needs v_{n+1} inside the damping force;
     /// the half-step velocity v_{n+½} stands in for it, which keeps the scheme explicit.
     fn velocity_verlet(&mut self, m: &mut Model, loads: &Loads) {
-        let dt = m.dt;
+        let h = 0.5 * m.dt;
         total_force(m, loads, &m.x, &m.v, &mut self.f0);
-        for n in 0..m.nodes() {
-            let inv_m = self.inv_mass[n];
-            for c in 0..3 {
-                let i = 3 * n + c;
-                m.v[i] += 0.5 * dt * self.f0[i] * inv_m; // (37)
-                m.x[i] += dt * m.v[i]; // (38)
-            }
-        }
-        advance_attachments(m, dt);
+        kick(&mut m.v, &self.f0, &self.inv_mass, h); // (37)
+        drift(&mut m.x, &m.v, m.dt); // (38)
+        advance_attachments(m, m.dt);
         total_force(m, loads, &m.x, &m.v, &mut self.f1); // (39)
-        for n in 0..m.nodes() {
-            let inv_m = self.inv_mass[n];
-            for c in 0..3 {
-                let i = 3 * n + c;
-                m.v[i] += 0.5 * dt * self.f1[i] * inv_m; // (40)
-            }
-        }
-        // Trapezoidal impulse, consistent with the two half kicks.
+        kick(&mut m.v, &self.f1, &self.inv_mass, h); // (40)
+                                                     // Trapezoidal impulse, consistent with the two half kicks.
         for a in &mut m.attachments {
             for c in 0..3 {
-                a.impulse[c] += 0.5 * dt * (self.f0[3 * a.node + c] + self.f1[3 * a.node + c]);
+                a.impulse[c] += h * (self.f0[3 * a.node + c] + self.f1[3 * a.node + c]);
             }
         }
     }
 
     /// Seed 003 eqs. (15)–(16): velocity first, then position with the new velocity.
     fn euler_cromer(&mut self, m: &mut Model, loads: &Loads) {
-        let dt = m.dt;
         total_force(m, loads, &m.x, &m.v, &mut self.f0);
-        for n in 0..m.nodes() {
-            let inv_m = self.inv_mass[n];
-            for c in 0..3 {
-                let i = 3 * n + c;
-                m.v[i] += dt * self.f0[i] * inv_m;
-                m.x[i] += dt * m.v[i];
-            }
-        }
+        kick(&mut m.v, &self.f0, &self.inv_mass, m.dt);
+        drift(&mut m.x, &m.v, m.dt);
         for a in &mut m.attachments {
             for c in 0..3 {
-                a.impulse[c] += dt * self.f0[3 * a.node + c];
+                a.impulse[c] += m.dt * self.f0[3 * a.node + c];
             }
         }
-        advance_attachments(m, dt);
+        advance_attachments(m, m.dt);
+    }
+}
+
+/// v ← v + h·f/m (nodes with 1/m = 0 keep their velocity).
+fn kick(v: &mut [f64], f: &[f64], inv_mass: &[f64], h: f64) {
+    for (i, vi) in v.iter_mut().enumerate() {
+        *vi += h * f[i] * inv_mass[i / 3];
+    }
+}
+
+/// x ← x + h·v (attached nodes are placed afterwards; fixed nodes have v = 0).
+fn drift(x: &mut [f64], v: &[f64], h: f64) {
+    for (xi, vi) in x.iter_mut().zip(v) {
+        *xi += h * vi;
     }
 }
 

@@ -44,6 +44,17 @@ fn fields_arrive_bit_exact_from_1_to_a_million_values() {
     }
 }
 
+/// Sub-steps a participant reported taking, from the manifest.
+fn substeps(manifest: &serde_json::Value, role: &str) -> u64 {
+    let p = manifest["processes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["role"] == role)
+        .unwrap();
+    p["substeps"].as_u64().unwrap()
+}
+
 #[test]
 fn each_participant_sees_the_scheduled_substeps() {
     let dir = scratch("counts");
@@ -57,18 +68,8 @@ fn each_participant_sees_the_scheduled_substeps() {
     let m = manifest(&dir.join("p"));
     let windows = m["schedule"]["windows"].as_u64().unwrap();
     assert_eq!(windows, 50);
-    let substeps = |role: &str| {
-        m["processes"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|p| p["role"] == role)
-            .unwrap()["substeps"]
-            .as_u64()
-            .unwrap()
-    };
-    assert_eq!(substeps("structure"), windows * 6);
-    assert_eq!(substeps("rigid"), windows * 3);
+    assert_eq!(substeps(&m, "structure"), windows * 6);
+    assert_eq!(substeps(&m, "rigid"), windows * 3);
 
     let canopy = variant("canopy-porous", &dir, |s| {
         s.run.end_time = 0.1;
@@ -78,18 +79,8 @@ fn each_participant_sees_the_scheduled_substeps() {
     let m = manifest(&dir.join("c"));
     let windows = m["schedule"]["windows"].as_u64().unwrap();
     assert_eq!(windows, 50);
-    let substeps = |role: &str| {
-        m["processes"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|p| p["role"] == role)
-            .unwrap()["substeps"]
-            .as_u64()
-            .unwrap()
-    };
-    assert_eq!(substeps("fluid"), windows);
-    assert_eq!(substeps("structure"), windows * 5);
+    assert_eq!(substeps(&m, "fluid"), windows);
+    assert_eq!(substeps(&m, "structure"), windows * 5);
 }
 
 /// Children of `pid`, from /proc.

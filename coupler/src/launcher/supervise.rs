@@ -73,43 +73,14 @@ pub fn spawn(
     let tail = Arc::new(Mutex::new(VecDeque::new()));
     let mut readers = Vec::new();
     if let Some(err) = child.stderr.take() {
-        let (tail, path) = (tail.clone(), log_path.clone());
-        readers.push(tokio::spawn(async move {
-            let mut log = tokio::fs::OpenOptions::new()
-                .create(true)
-                .append(true)
-                .open(&path)
-                .await
-                .ok();
-            let mut lines = BufReader::new(err).lines();
-            while let Ok(Some(line)) = lines.next_line().await {
-                if let Some(f) = log.as_mut() {
-                    let _ = f.write_all(format!("{line}\n").as_bytes()).await;
-                }
-                let mut t = tail.lock().unwrap_or_else(|e| e.into_inner());
-                if t.len() == TAIL_LINES {
-                    t.pop_front();
-                }
-                t.push_back(line);
-            }
-        }));
+        readers.push(tokio::spawn(pump(
+            err,
+            log_path.clone(),
+            Some(tail.clone()),
+        )));
     }
     if let Some(out) = child.stdout.take() {
-        let path = log_path.clone();
-        readers.push(tokio::spawn(async move {
-            let mut log = tokio::fs::OpenOptions::new()
-                .create(true)
-                .append(true)
-                .open(&path)
-                .await
-                .ok();
-            let mut lines = BufReader::new(out).lines();
-            while let Ok(Some(line)) = lines.next_line().await {
-                if let Some(f) = log.as_mut() {
-                    let _ = f.write_all(format!("{line}\n").as_bytes()).await;
-                }
-            }
-        }));
+        readers.push(tokio::spawn(pump(out, log_path, None)));
     }
     tokio::spawn(async move {
         let status = child.wait().await;
@@ -128,6 +99,33 @@ pub fn spawn(
         tail,
         readers,
     })
+}
+
+/// Copy a child's output line by line into its log, keeping the last lines in `tail`.
+async fn pump(
+    from: impl tokio::io::AsyncRead + Unpin,
+    log_path: std::path::PathBuf,
+    tail: Option<Arc<Mutex<VecDeque<String>>>>,
+) {
+    let mut log = tokio::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&log_path)
+        .await
+        .ok();
+    let mut lines = BufReader::new(from).lines();
+    while let Ok(Some(line)) = lines.next_line().await {
+        if let Some(f) = log.as_mut() {
+            let _ = f.write_all(format!("{line}\n").as_bytes()).await;
+        }
+        if let Some(tail) = &tail {
+            let mut t = tail.lock().unwrap_or_else(|e| e.into_inner());
+            if t.len() == TAIL_LINES {
+                t.pop_front();
+            }
+            t.push_back(line);
+        }
+    }
 }
 
 impl Child {
