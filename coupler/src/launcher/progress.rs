@@ -77,9 +77,8 @@ impl Progress {
 
     pub fn finish(&mut self, t: f64, steps: u64) {
         let msg = self.line(t, steps);
-        match self.bar.take() {
-            Some(bar) => bar.finish_and_clear(),
-            None => {}
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear()
         }
         eprintln!("[{}] {msg}", self.name);
     }

@@ -185,7 +185,7 @@ impl Scenario {
             k.structure_substeps as f64,
         );
         c.nonzero(&["coupling", "impulse_substeps"], k.impulse_substeps as f64);
-        if k.impulse_substeps > 0 && k.structure_substeps % k.impulse_substeps != 0 {
+        if k.impulse_substeps > 0 && !k.structure_substeps.is_multiple_of(k.impulse_substeps) {
             c.problem(
                 &["coupling", "impulse_substeps"],
                 format!(

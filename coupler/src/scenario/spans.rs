@@ -78,10 +78,10 @@ pub fn key_at(text: &str, offset: usize) -> Option<Vec<Seg>> {
     fn walk(node: Node, path: &mut Vec<Seg>, offset: usize, best: &mut Option<Vec<Seg>>) {
         for (seg, key_span, child) in node.children() {
             path.push(seg);
-            if contains(&key_span, offset) || contains(&child.span(), offset) {
-                if best.as_ref().is_none_or(|b| b.len() < path.len()) {
-                    *best = Some(path.clone());
-                }
+            if (contains(&key_span, offset) || contains(&child.span(), offset))
+                && best.as_ref().is_none_or(|b| b.len() < path.len())
+            {
+                *best = Some(path.clone());
             }
             walk(child, path, offset, best);
             path.pop();
