@@ -272,46 +272,69 @@ async fn supervise_run(
 
     if let Some(outcome) = completed {
         // Participants exit by themselves after `Finished`; give them a moment.
-        let deadline = tokio::time::Instant::now() + Duration::from_secs(10);
-        while children.iter().any(|c| c.exited.is_none()) {
-            match tokio::time::timeout_at(deadline, exit_rx.recv()).await {
-                Ok(Some(exit)) => {
-                    record_exit(&mut children, &exit);
-                    if !matches!(&exit.status, Ok(s) if s.success()) {
-                        end = Some(End::Failed(
-                            Some(exit.role),
-                            format!(
-                                "participant `{}` exited badly after finishing",
-                                exit.role.name()
-                            ),
-                        ));
-                    }
-                }
-                _ => break,
-            }
+        let bad = await_exits(&mut children, &mut exit_rx, Duration::from_secs(10), |_| {
+            true
+        })
+        .await;
+        if let Some(role) = bad.first() {
+            let msg = format!("participant `{}` exited badly after finishing", role.name());
+            end = Some(End::Failed(Some(*role), msg));
         }
         if end.is_none() {
             end = Some(End::Completed(outcome));
         }
     }
 
+    // A participant that reported failure is about to exit by itself; a moment's
+    // grace lets it finish writing its stderr, which the message quotes.
+    if let Some(End::Failed(Some(role), _)) = &end {
+        let role = *role;
+        await_exits(
+            &mut children,
+            &mut exit_rx,
+            Duration::from_millis(500),
+            |c| c.role == role,
+        )
+        .await;
+    }
     // Stop whatever still runs, and reap everything.
     abort.store(true, Ordering::SeqCst);
     for c in &children {
         c.kill();
     }
-    let deadline = tokio::time::Instant::now() + Duration::from_secs(5);
-    while children.iter().any(|c| c.exited.is_none()) {
-        match tokio::time::timeout_at(deadline, exit_rx.recv()).await {
-            Ok(Some(exit)) => record_exit(&mut children, &exit),
-            _ => break,
-        }
-    }
+    await_exits(&mut children, &mut exit_rx, Duration::from_secs(5), |_| {
+        true
+    })
+    .await;
     for c in &mut children {
         c.drain().await;
     }
     let _ = tokio::task::spawn_blocking(move || thread.join()).await;
     (end.unwrap_or(End::Interrupted), children)
+}
+
+/// Record exits until every child that `which` selects has exited, or `within`
+/// has passed. Returns the roles that exited unsuccessfully.
+async fn await_exits(
+    children: &mut [Child],
+    exits: &mut mpsc::UnboundedReceiver<Exit>,
+    within: Duration,
+    which: impl Fn(&Child) -> bool,
+) -> Vec<Role> {
+    let deadline = tokio::time::Instant::now() + within;
+    let mut bad = Vec::new();
+    while children.iter().any(|c| which(c) && c.exited.is_none()) {
+        match tokio::time::timeout_at(deadline, exits.recv()).await {
+            Ok(Some(exit)) => {
+                record_exit(children, &exit);
+                if !matches!(&exit.status, Ok(s) if s.success()) {
+                    bad.push(exit.role);
+                }
+            }
+            _ => break,
+        }
+    }
+    bad
 }
 
 fn record_exit(children: &mut [Child], exit: &Exit) {
