@@ -6,7 +6,7 @@
 //! as two cores, and a busy-polling process starves the one doing the work
 //! (DESIGN.md, "Processes and what they exchange").
 
-use iceoryx2::port::listener::Listener;
+use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
@@ -95,8 +95,9 @@ fn field_service(
         .publish_subscribe::<[f64]>()
         .max_publishers(1)
         .max_subscribers(1)
-        // The consumer reads the newest sample; an older unread one is overwritten.
-        .subscriber_max_buffer_size(2)
+        // The consumer reads the newest sample; an older unread one is overwritten
+        // (safe overflow), so a read never holds more than the one it returns.
+        .subscriber_max_buffer_size(1)
         .subscriber_max_borrowed_samples(2)
         .history_size(0)
         .open_or_create()
@@ -215,9 +216,11 @@ pub fn wait_until<T>(
             None => BLOCK_SLICE,
         };
         // A notification that arrived after `poll` is kept by the event, so this returns at once.
-        listener
-            .timed_wait(|_| {}, slice)
-            .map_err(ipc_err("wait on event"))?;
+        match listener.timed_wait(|_| {}, slice) {
+            // A signal (SIGCHLD, SIGINT handled elsewhere) only cuts the wait short.
+            Ok(_) | Err(ListenerWaitError::InterruptSignal) => {}
+            Err(e) => return Err(ipc_err("wait on event")(e)),
+        }
     }
 }
 

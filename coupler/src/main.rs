@@ -20,7 +20,7 @@ enum Cmd {
     /// Run a scenario: start its participants, couple them to the end time, write a run directory.
     Run {
         scenario: PathBuf,
-        /// Run directory (default: runs/<scene>-<unix time>).
+        /// Run directory, new or empty (default: runs/<scene>-<run id>).
         #[arg(long)]
         out: Option<PathBuf>,
     },

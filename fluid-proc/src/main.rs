@@ -39,6 +39,13 @@ fn run() -> Result<(), Error> {
                 }
                 let tris = triangles.as_deref().unwrap_or(&[]);
                 let x = p.read_field(Field::CanopyPositions)?;
+                let nodes = x.len() / 3;
+                if let Some(t) = tris.iter().find(|t| t.iter().any(|&i| i >= nodes)) {
+                    let msg =
+                        format!("canopy triangle {t:?} names a vertex beyond the {nodes} sent");
+                    p.fail(msg.clone())?;
+                    return Err(msg.into());
+                }
                 let v = p.read_field(Field::CanopyVelocities)?;
                 let mut total = 0.0;
                 p.write_field(Field::CanopyPressure, tris.len(), |out| {

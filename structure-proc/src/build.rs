@@ -26,6 +26,7 @@ pub fn build_model(
         gravity: s.gravity,
         damping: s.damping,
         dt,
+        damping_dt: dt,
     };
     if let Some(a) = &s.annulus {
         let mesh = annulus(

@@ -57,9 +57,11 @@ pub fn total_force(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]
                 f[3 * s.j + c] -= fc;
             }
         }
-        if m.damping == Damping::RelativeVelocity {
+        // A slack string carries no force (eq. 3), viscous or elastic.
+        let slack = s.tension_only && t == 0.0;
+        if m.damping == Damping::RelativeVelocity && !slack {
             // Seed 003 eq. (68): F_v,i = Σ k_ij·Δt·(v_j − v_i).
-            let c_ij = s.k * m.dt;
+            let c_ij = s.k * m.damping_dt;
             for c in 0..3 {
                 let fc = c_ij * (v[3 * s.j + c] - v[3 * s.i + c]);
                 f[3 * s.i + c] += fc;

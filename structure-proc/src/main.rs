@@ -56,6 +56,8 @@ fn run() -> Result<(), Error> {
     let mut integrator = Integrator::new(section.integrator, &m);
     let mut output = Output::new(p.run_dir(), &m);
     let mut substeps = 0u64;
+    let mut pressure = None;
+    let mut pressure_window = None;
     loop {
         match p.next_command()? {
             Command::Initialize => {
@@ -63,10 +65,12 @@ fn run() -> Result<(), Error> {
                 p.done(monitors(&m))?;
             }
             Command::Advance(step) => {
-                let pressure = match p.is_connected(Field::CanopyPressure) {
-                    true => Some(p.read_field(Field::CanopyPressure)?),
-                    false => None,
-                };
+                // The fluid publishes one pressure per window; impulse sub-steps
+                // after the first keep using it.
+                if p.is_connected(Field::CanopyPressure) && pressure_window != Some(step.window) {
+                    pressure = Some(p.read_field(Field::CanopyPressure)?);
+                    pressure_window = Some(step.window);
+                }
                 if p.is_connected(Field::AttachmentState) {
                     let state = p.read_field(Field::AttachmentState)?;
                     m.set_attachments(&state);

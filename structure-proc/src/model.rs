@@ -58,8 +58,11 @@ pub struct Model {
     pub attachments: Vec<Attachment>,
     pub gravity: [f64; 3],
     pub damping: Damping,
-    /// Structure time step Δt_s [s]; seed 003 eq. (68) scales damping with it.
+    /// Structure time step Δt_s [s] of the current step (the last window may be shorter).
     pub dt: f64,
+    /// The scenario's structure step Δt_f/n_s [s]; seed 003 eq. (68) scales the
+    /// damping with it, and it stays fixed when a last, shorter window shrinks `dt`.
+    pub damping_dt: f64,
 }
 
 impl Model {

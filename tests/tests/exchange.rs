@@ -259,3 +259,89 @@ fn ctrl_c_stops_everything_cleanly() {
     );
     assert!(Monitors::read(&out).rows.len() > 1);
 }
+
+#[test]
+fn three_participants_exchange_every_field_each_sub_step() {
+    use coupler::scenario::rigid::{BodySpec, RigidSection};
+    use coupler::scenario::structure::StringSpec;
+    use coupler::scenario::ParticipantSpec;
+    // The porous canopy plus a payload hanging from a string: fluid, structure and
+    // rigid all take part, with two impulse sub-steps per window.
+    let dir = scratch("three");
+    let path = variant("canopy-porous", &dir, |s| {
+        s.run.end_time = 0.1;
+        s.coupling.structure_substeps = 4;
+        s.coupling.impulse_substeps = 2;
+        s.participants.rigid = Some(ParticipantSpec {
+            program: "rigid-proc".into(),
+            args: vec![],
+        });
+        s.structure.as_mut().unwrap().strings.push(StringSpec {
+            anchor: [0.0, 0.0, -1.0],
+            body: "payload".into(),
+            stiffness: 1e4,
+            rest_length: 1.0,
+            compressive_tolerance: 0.0,
+        });
+        s.rigid = Some(RigidSection {
+            gravity: [0.0, 0.0, -9.81],
+            bodies: vec![BodySpec {
+                name: "payload".into(),
+                mass: 1.0,
+                position: [0.0, 0.0, -2.0],
+                velocity: [0.0; 3],
+                linear_damping: 0.0,
+            }],
+        });
+    });
+    run_ok(&path, &dir.join("run"));
+    let m = manifest(&dir.join("run"));
+    let windows = m["schedule"]["windows"].as_u64().unwrap();
+    assert_eq!(substeps(&m, "fluid"), windows);
+    assert_eq!(substeps(&m, "structure"), windows * 4);
+    assert_eq!(substeps(&m, "rigid"), windows * 2);
+    // The payload hangs on its string: it stays within the string's stretch of z = −2 m.
+    let z = Monitors::read(&dir.join("run")).column("rigid.payload.z");
+    assert!(
+        z.iter().all(|z| (z + 2.0).abs() < 5e-3),
+        "payload left its string: {:?}",
+        z.last()
+    );
+}
+
+#[test]
+fn participants_do_not_outlive_a_killed_coupler() {
+    let dir = scratch("orphans");
+    let (mut coupler, kids, out) = start_long_run(&dir, 60.0);
+    let run_id = manifest(&out)["run_id"].as_str().unwrap().to_string();
+    // SAFETY: plain syscall on the coupler we started.
+    unsafe { libc::kill(coupler.id() as i32, libc::SIGKILL) };
+    coupler.wait().unwrap();
+    let started = Instant::now();
+    // They die with their parent (PR_SET_PDEATHSIG); init reaps them.
+    while kids.iter().any(|(pid, _)| alive(*pid) && !zombie(*pid)) {
+        assert!(
+            started.elapsed() < Duration::from_secs(2),
+            "participants outlived the coupler: {kids:?}"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    // What the dead processes left is cleaned as the next run starts.
+    coupler::channel::cleanup_dead_nodes();
+    assert_eq!(
+        coupler::channel::services_of_run(&run_id),
+        Vec::<String>::new()
+    );
+}
+
+fn zombie(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat"))
+        .map(|s| {
+            s.rsplit(')')
+                .next()
+                .unwrap_or("")
+                .trim_start()
+                .starts_with('Z')
+        })
+        .unwrap_or(true)
+}

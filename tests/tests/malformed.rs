@@ -274,6 +274,40 @@ const CASES: &[Case] = &[
         line_of: Some("[participants.fluid]"),
     },
     Case {
+        name: "bad-run-name",
+        edit: |t| replace(t, "name = \"pendulum\"", "name = \"../up\""),
+        key: Some("run.name"),
+        says: "must be a non-empty name",
+        line_of: Some("name = \"../up\""),
+    },
+    Case {
+        name: "bad-body-name",
+        edit: |t| t.replace("\"ball\"", "\"ball,1\""),
+        key: Some("rigid.bodies[0].name"),
+        says: "must be a non-empty name",
+        line_of: Some("name = \"ball,1\""),
+    },
+    Case {
+        name: "huge-timeout",
+        edit: |t| {
+            replace(
+                t,
+                "impulse_substeps = 4",
+                "impulse_substeps = 4\ntimeout = 1e30",
+            )
+        },
+        key: Some("coupling.timeout"),
+        says: "is more than",
+        line_of: Some("timeout = 1e30"),
+    },
+    Case {
+        name: "too-many-windows",
+        edit: |t| replace(t, "window = 1e-3", "window = 1e-12"),
+        key: Some("coupling.window"),
+        says: "gives more than",
+        line_of: Some("window = 1e-12"),
+    },
+    Case {
         name: "syntax-error",
         edit: |t| replace(t, "end_time = 10.0", "end_time = = 10.0"),
         key: None,

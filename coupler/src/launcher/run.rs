@@ -50,16 +50,15 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
     // Timing starts after any first-run build of the solvers.
     let started = Instant::now();
     let scenario = checked.scenario.clone();
-    let run_dir = out.unwrap_or_else(|| {
-        let stamp = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_secs())
-            .unwrap_or(0);
-        PathBuf::from("runs").join(format!("{}-{stamp}", scenario.run.name))
-    });
-    if run_dir.join("manifest.json").exists() {
+    let run_id = names::new_run_id();
+    let run_dir = out
+        .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}-{run_id}", scenario.run.name)));
+    if std::fs::read_dir(&run_dir)
+        .map(|mut d| d.next().is_some())
+        .unwrap_or(false)
+    {
         eprintln!(
-            "error: {} already holds a run; choose another --out or remove it",
+            "error: {} is not empty; choose another --out or remove it",
             run_dir.display()
         );
         return EXIT_BAD_INPUT;
@@ -74,10 +73,17 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
         return EXIT_BAD_INPUT;
     }
     let run_dir = run_dir.canonicalize().unwrap_or(run_dir);
+    // Replaced when the run ends; if the coupler itself is killed, this says so.
+    let early = json!({
+        "status": "running",
+        "run_id": run_id,
+        "scenario": scenario_path.display().to_string(),
+        "command_line": std::env::args().collect::<Vec<_>>(),
+    });
+    let _ = std::fs::write(run_dir.join("manifest.json"), early.to_string());
     // Stale resources of earlier runs that died are removed before this one starts.
     channel::cleanup_dead_nodes();
 
-    let run_id = names::new_run_id();
     let runtime = match tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
@@ -195,6 +201,11 @@ async fn supervise_run(
         })
     };
 
+    // Signals are caught from before the first child starts to the end.
+    use tokio::signal::unix::{signal, SignalKind};
+    let mut sigint = signal(SignalKind::interrupt()).ok();
+    let mut sigterm = signal(SignalKind::terminate()).ok();
+    let mut sighup = signal(SignalKind::hangup()).ok();
     let mut children: Vec<Child> = Vec::new();
     let (exit_tx, mut exit_rx) = mpsc::unbounded_channel::<Exit>();
     let mut end = match ready_rx.await {
@@ -234,8 +245,6 @@ async fn supervise_run(
         }
     }
 
-    let mut sigterm =
-        tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()).ok();
     let mut completed = None;
     while end.is_none() {
         tokio::select! {
@@ -244,6 +253,12 @@ async fn supervise_run(
                 let stopping = stopping.load(Ordering::SeqCst);
                 let ok = matches!(&exit.status, Ok(s) if s.success());
                 if !stopping || !ok {
+                    // A participant that said why it fails exits right after; its
+                    // reason, already on its way to the coupling thread, is the better message.
+                    if let Ok(Ok(Err(e @ ControlError::Failed { .. }))) = tokio::time::timeout(Duration::from_millis(200), &mut done_rx).await {
+                        end = Some(End::Failed(Some(exit.role), e.to_string()));
+                        continue;
+                    }
                     let how = match &exit.status {
                         Ok(s) => supervise::describe(s),
                         Err(e) => format!("could not be waited on: {e}"),
@@ -265,8 +280,9 @@ async fn supervise_run(
                     Err(_) => end = Some(End::Failed(None, "the coupling thread stopped unexpectedly".into())),
                 }
             }
-            _ = tokio::signal::ctrl_c() => end = Some(End::Interrupted),
-            _ = async { match sigterm.as_mut() { Some(s) => { s.recv().await; } None => std::future::pending::<()>().await } } => end = Some(End::Interrupted),
+            _ = next_signal(&mut sigint) => end = Some(End::Interrupted),
+            _ = next_signal(&mut sigterm) => end = Some(End::Interrupted),
+            _ = next_signal(&mut sighup) => end = Some(End::Interrupted),
         }
     }
 
@@ -335,6 +351,16 @@ async fn await_exits(
         }
     }
     bad
+}
+
+/// The next delivery of a signal; never, when the handler could not be installed.
+async fn next_signal(s: &mut Option<tokio::signal::unix::Signal>) {
+    match s.as_mut() {
+        Some(s) => {
+            s.recv().await;
+        }
+        None => std::future::pending::<()>().await,
+    }
 }
 
 fn record_exit(children: &mut [Child], exit: &Exit) {

@@ -62,6 +62,17 @@ pub fn spawn(
         // the participants itself.
         .process_group(0)
         .kill_on_drop(true);
+    // If the coupler itself dies (SIGKILL, a closed terminal), the participants
+    // must not run on: the kernel kills them with it.
+    // SAFETY: prctl is async-signal-safe and touches only the child being started.
+    unsafe {
+        cmd.pre_exec(|| {
+            if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
     for (k, v) in env {
         cmd.env(k, v);
     }

@@ -107,6 +107,37 @@ impl Checker {
         }
     }
 
+    /// At most `max` (guards memory and run length against typos like 1e20).
+    pub fn at_most(&mut self, keys: &[&str], v: f64, max: f64) {
+        if v > max {
+            self.problem(
+                keys,
+                format!(
+                    "{} = {v} is more than the {max:e} canopy accepts",
+                    Self::last(keys)
+                ),
+            );
+        }
+    }
+
+    /// A name used in file and column names: letters, digits, `_`, `-` (and `.` not first).
+    pub fn plain_name(&mut self, keys: &[&str], name: &str, dots: bool) {
+        let ok = !name.is_empty()
+            && !name.starts_with('.')
+            && name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || (dots && c == '.'));
+        if !ok {
+            self.problem(
+                keys,
+                format!(
+                    "{} = {name:?} must be a non-empty name of letters, digits, `_` and `-`",
+                    Self::last(keys)
+                ),
+            );
+        }
+    }
+
     pub fn fraction(&mut self, keys: &[&str], v: f64) {
         if !(v.is_finite() && v > 0.0 && v < 1.0) {
             self.problem(

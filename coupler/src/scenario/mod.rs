@@ -18,6 +18,13 @@ use crate::protocol::Role;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// Most coupling windows one run may take.
+pub const MAX_WINDOWS: f64 = 1e9;
+/// Most sub-steps per window.
+pub const MAX_SUBSTEPS: f64 = 1e6;
+/// Longest answer timeout [s] (a day).
+pub const MAX_TIMEOUT: f64 = 86_400.0;
+
 /// A whole scenario file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -166,6 +173,7 @@ impl Scenario {
 
     fn check(&self, c: &mut Checker) {
         let r = &self.run;
+        c.plain_name(&["run", "name"], &r.name, true);
         c.finite_nonneg(&["run", "start_time"], r.start_time);
         c.finite(&["run", "end_time"], r.end_time);
         if r.end_time <= r.start_time {
@@ -180,6 +188,21 @@ impl Scenario {
         c.finite_nonneg(&["run", "output_interval"], r.output_interval);
         let k = &self.coupling;
         c.positive(&["coupling", "window"], k.window, "s");
+        if k.window > 0.0 && (r.end_time - r.start_time) / k.window > MAX_WINDOWS {
+            c.problem(&["coupling", "window"], format!(
+                "window = {} gives more than {MAX_WINDOWS:e} windows from start_time to end_time", k.window));
+        }
+        c.at_most(
+            &["coupling", "structure_substeps"],
+            k.structure_substeps as f64,
+            MAX_SUBSTEPS,
+        );
+        c.at_most(
+            &["coupling", "impulse_substeps"],
+            k.impulse_substeps as f64,
+            MAX_SUBSTEPS,
+        );
+        c.at_most(&["coupling", "timeout"], k.timeout, MAX_TIMEOUT);
         c.nonzero(
             &["coupling", "structure_substeps"],
             k.structure_substeps as f64,

@@ -40,9 +40,7 @@ impl RigidSection {
             }
             for (i, b) in self.bodies.iter().enumerate() {
                 c.within("bodies", Some(i), |c| {
-                    if b.name.trim().is_empty() {
-                        c.problem(&["name"], "name is empty".into());
-                    }
+                    c.plain_name(&["name"], &b.name, false);
                     if self.bodies[..i].iter().any(|o| o.name == b.name) {
                         c.problem(&["name"], format!("body name `{}` is used twice", b.name));
                     }

@@ -108,6 +108,8 @@ impl StructureSection {
                         c.problem(&["outer_radius"], format!(
                             "outer_radius = {} must exceed inner_radius = {}", a.outer_radius, a.inner_radius));
                     }
+                    c.at_most(&["rings"], a.rings as f64, 1000.0);
+                    c.at_most(&["outer_nodes"], a.outer_nodes as f64, 1e5);
                     if a.rings < 2 {
                         c.problem(&["rings"], format!("rings = {} must be at least 2", a.rings));
                     }
