@@ -33,6 +33,8 @@ pub enum ControlError {
     },
     #[error("stopped")]
     Aborted,
+    #[error("{0}")]
+    Output(String),
     #[error("coupling channel: {0}")]
     Channel(ChannelError),
 }

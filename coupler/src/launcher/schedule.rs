@@ -42,17 +42,12 @@ pub fn run(
         ctl.expect_ready(r, timeout)?;
     }
     // Every field port exists now: initial values can be published.
-    let mut io_err = |e: std::io::Error| {
-        ControlError::Channel(crate::channel::ChannelError::Ipc(format!(
-            "monitors.csv: {e}"
-        )))
-    };
     for &r in &roles {
         let m = ctl.call(r, &Command::Initialize, timeout)?;
         monitors.update(r, m);
     }
     let t0 = scenario.run.start_time;
-    monitors.row(t0).map_err(&mut io_err)?;
+    monitors.row(t0).map_err(monitors_error)?;
     let mut outputs = Outputs::new(scenario);
     outputs.write(ctl, &roles, t0, true, timeout)?;
 
@@ -111,14 +106,14 @@ pub fn run(
             monitors.update(Role::Structure, m);
         }
         let t_next = t + dt;
-        monitors.row(t_next).map_err(&mut io_err)?;
+        monitors.row(t_next).map_err(monitors_error)?;
         outputs.write(ctl, &roles, t_next, w + 1 == windows, timeout)?;
         if outputs.written_now {
-            monitors.flush().map_err(&mut io_err)?;
+            monitors.flush().map_err(monitors_error)?;
         }
         progress.update(t_next, w + 1);
     }
-    monitors.flush().map_err(&mut io_err)?;
+    monitors.flush().map_err(monitors_error)?;
     stopping.store(true, std::sync::atomic::Ordering::SeqCst);
     for &r in &roles {
         ctl.send(r, &Command::Stop)?;
@@ -132,6 +127,10 @@ pub fn run(
         windows,
         coupler_send_s: ctl.send_s,
     })
+}
+
+fn monitors_error(e: std::io::Error) -> ControlError {
+    ControlError::Output(format!("cannot write monitors.csv: {e}"))
 }
 
 /// When to ask the participants for `.vtu` output.
@@ -161,7 +160,7 @@ impl Outputs {
         timeout: Duration,
     ) -> Result<(), ControlError> {
         // A small tolerance keeps round-off in t from skipping an output.
-        let due = t >= self.next_time - 1e-9 * self.interval.max(1e-300);
+        let due = t >= self.next_time - 1e-9 * self.interval;
         self.written_now = (self.interval > 0.0 && due) || last || self.index == 0;
         if !self.written_now {
             return Ok(());
