@@ -55,29 +55,37 @@ fn substeps(manifest: &serde_json::Value, role: &str) -> u64 {
     p["substeps"].as_u64().unwrap()
 }
 
+/// Run a variant of a shipped scene into `dir/<name>`; its manifest and window count.
+fn run_variant(
+    scene: &str,
+    dir: &std::path::Path,
+    change: impl FnOnce(&mut coupler::Scenario),
+) -> (serde_json::Value, u64) {
+    let path = variant(scene, dir, change);
+    let out = dir.join(scene);
+    run_ok(&path, &out);
+    let m = manifest(&out);
+    let windows = m["schedule"]["windows"].as_u64().unwrap();
+    (m, windows)
+}
+
 #[test]
 fn each_participant_sees_the_scheduled_substeps() {
     let dir = scratch("counts");
-    let pendulum = variant("pendulum", &dir, |s| {
+    let (m, windows) = run_variant("pendulum", &dir, |s| {
         s.run.end_time = 0.05;
         s.coupling.window = 1e-3;
         s.coupling.structure_substeps = 6;
         s.coupling.impulse_substeps = 3;
     });
-    run_ok(&pendulum, &dir.join("p"));
-    let m = manifest(&dir.join("p"));
-    let windows = m["schedule"]["windows"].as_u64().unwrap();
     assert_eq!(windows, 50);
     assert_eq!(substeps(&m, "structure"), windows * 6);
     assert_eq!(substeps(&m, "rigid"), windows * 3);
 
-    let canopy = variant("canopy-porous", &dir, |s| {
+    let (m, windows) = run_variant("canopy-porous", &dir, |s| {
         s.run.end_time = 0.1;
         s.coupling.structure_substeps = 5;
     });
-    run_ok(&canopy, &dir.join("c"));
-    let m = manifest(&dir.join("c"));
-    let windows = m["schedule"]["windows"].as_u64().unwrap();
     assert_eq!(windows, 50);
     assert_eq!(substeps(&m, "fluid"), windows);
     assert_eq!(substeps(&m, "structure"), windows * 5);
@@ -268,7 +276,7 @@ fn three_participants_exchange_every_field_each_sub_step() {
     // The porous canopy plus a payload hanging from a string: fluid, structure and
     // rigid all take part, with two impulse sub-steps per window.
     let dir = scratch("three");
-    let path = variant("canopy-porous", &dir, |s| {
+    let (m, windows) = run_variant("canopy-porous", &dir, |s| {
         s.run.end_time = 0.1;
         s.coupling.structure_substeps = 4;
         s.coupling.impulse_substeps = 2;
@@ -294,14 +302,11 @@ fn three_participants_exchange_every_field_each_sub_step() {
             }],
         });
     });
-    run_ok(&path, &dir.join("run"));
-    let m = manifest(&dir.join("run"));
-    let windows = m["schedule"]["windows"].as_u64().unwrap();
     assert_eq!(substeps(&m, "fluid"), windows);
     assert_eq!(substeps(&m, "structure"), windows * 4);
     assert_eq!(substeps(&m, "rigid"), windows * 2);
     // The payload hangs on its string: it stays within the string's stretch of z = −2 m.
-    let z = Monitors::read(&dir.join("run")).column("rigid.payload.z");
+    let z = Monitors::read(&dir.join("canopy-porous")).column("rigid.payload.z");
     assert!(
         z.iter().all(|z| (z + 2.0).abs() < 5e-3),
         "payload left its string: {:?}",
