@@ -1,16 +1,22 @@
-//! structure-proc: the spring-mass canopy and strings (seed 003 §2.1, §3.2).
+//! structure-proc: the spring-mass canopy, cloth and strings (seed 000 §2.3,
+//! seed 003 §2.1–§2.4, §3.2).
 //!
 //! The physics lives here and never touches IPC; `main.rs` connects it to the
 //! coupler. Data are flat arrays (`x`, `v`: xyz interleaved per node), and the
-//! step functions take their inputs explicitly.
+//! step functions take their inputs explicitly. Force terms are in `forces/`,
+//! time integrators in `integrators/`, and the two meet only through the
+//! [`System`] trait.
 
 pub mod annulus;
 pub mod build;
 pub mod forces;
-pub mod integrator;
+pub mod integrators;
 pub mod model;
 pub mod output;
+pub mod rectangle;
+pub mod system;
 
 pub use build::build_model;
-pub use integrator::Integrator;
+pub use integrators::{integrator, Integrator, StepError};
 pub use model::{Model, NodeKind, Spring};
+pub use system::System;

@@ -3,7 +3,7 @@
 use coupler::{Command, Field, Monitor, Participant, Role};
 use structure_proc::forces::Loads;
 use structure_proc::output::Output;
-use structure_proc::{build_model, Integrator, Model};
+use structure_proc::{build_model, integrator, Model};
 
 type Error = Box<dyn std::error::Error>;
 
@@ -21,6 +21,18 @@ fn monitors(m: &Model) -> Vec<Monitor> {
     ];
     if m.canopy_nodes > 0 {
         v.push(Monitor::new("centre_deflection", m.centre_deflection()));
+    }
+    for (name, n) in &m.points {
+        if m.kind[*n] == structure_proc::NodeKind::Free {
+            for (c, axis) in ["x", "y", "z", "vx", "vy", "vz"].iter().enumerate() {
+                let value = if c < 3 {
+                    m.x[3 * n + c]
+                } else {
+                    m.v[3 * n + c - 3]
+                };
+                v.push(Monitor::new(format!("{name}.{axis}"), value));
+            }
+        }
     }
     v
 }
@@ -53,7 +65,7 @@ fn run() -> Result<(), Error> {
         .ok_or("the scenario has no [structure] section")?;
     let dt = scenario.coupling.window / scenario.coupling.structure_substeps as f64;
     let mut m = build_model(section, scenario.rigid.as_ref(), dt)?;
-    let mut integrator = Integrator::new(section.integrator, &m);
+    let mut integrator = integrator(section.scheme());
     let mut output = Output::new(p.run_dir(), &m);
     let mut substeps = 0u64;
     let mut pressure = None;
@@ -79,15 +91,27 @@ fn run() -> Result<(), Error> {
                     pressure: pressure.as_deref().unwrap_or(&[]),
                 };
                 m.dt = step.dt / step.substeps as f64;
-                for _ in 0..step.substeps {
-                    integrator.step(&mut m, &loads);
+                let mut failure = None;
+                for k in 0..step.substeps {
+                    if let Err(e) = m.step(integrator.as_mut(), &loads) {
+                        let t = step.time + k as f64 * m.dt;
+                        failure = Some(format!(
+                            "{} failed at t = {t:.6e} s: {e}",
+                            section.integrator.name()
+                        ));
+                        break;
+                    }
                 }
                 substeps += step.substeps as u64;
-                if let Some((node, what)) = m.first_non_finite() {
-                    let msg = format!(
-                        "diverged at t = {:.6e} s: node {node} has a non-finite {what}",
-                        step.time + step.dt
-                    );
+                if failure.is_none() {
+                    if let Some((node, what)) = m.first_non_finite() {
+                        failure = Some(format!(
+                            "diverged at t = {:.6e} s: node {node} has a non-finite {what}",
+                            step.time + step.dt
+                        ));
+                    }
+                }
+                if let Some(msg) = failure {
                     p.fail(msg.clone())?;
                     return Err(msg.into());
                 }

@@ -1,6 +1,11 @@
 //! The spring-mass model: nodes, springs, canopy triangles, attachments.
 
-use coupler::scenario::structure::Damping;
+use crate::forces::damping::{Damper, Law};
+use crate::forces::delingette::TriangleSprings;
+pub use crate::forces::spring::Spring;
+use crate::forces::{Dynamics, Loads};
+use crate::integrators::{Integrator, StepError};
+use crate::system::System;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NodeKind {
@@ -9,19 +14,6 @@ pub enum NodeKind {
     Fixed,
     /// Moved by a rigid body; the index is into [`Model::attachments`].
     Attached(usize),
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Spring {
-    pub i: usize,
-    pub j: usize,
-    /// Stiffness k_ij [N/m].
-    pub k: f64,
-    /// Rest length l⁰_ij [m].
-    pub rest: f64,
-    /// Strings carry tension only, beyond the compressive tolerance eps (seed 003 eq. 3).
-    pub tension_only: bool,
-    pub eps: f64,
 }
 
 /// An attachment point on a rigid body, prescribed over one impulse sub-step as
@@ -37,7 +29,7 @@ pub struct Attachment {
     pub impulse: [f64; 3],
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Model {
     /// Positions [m], 3 per node.
     pub x: Vec<f64>,
@@ -47,6 +39,11 @@ pub struct Model {
     pub mass: Vec<f64>,
     pub kind: Vec<NodeKind>,
     pub springs: Vec<Spring>,
+    /// Delingette's triangular springs of a membrane fabric.
+    pub membrane: Vec<TriangleSprings>,
+    /// Dampers along springs and triangle edges, and the law they follow (None: undamped).
+    pub dampers: Vec<Damper>,
+    pub damping: Option<Law>,
     /// Canopy triangles (nodes `0..canopy_nodes`), counter-clockwise seen along +n.
     pub triangles: Vec<[usize; 3]>,
     /// The canopy occupies nodes `0..canopy_nodes`; strings follow.
@@ -56,13 +53,15 @@ pub struct Model {
     /// Height of the undeformed canopy plane [m].
     pub canopy_height: f64,
     pub attachments: Vec<Attachment>,
+    /// Named points of a hand-built network, with their node, for the monitors.
+    pub points: Vec<(String, usize)>,
     pub gravity: [f64; 3],
-    pub damping: Damping,
     /// Structure time step Δt_s [s] of the current step (the last window may be shorter).
     pub dt: f64,
-    /// The scenario's structure step Δt_f/n_s [s]; seed 003 eq. (68) scales the
-    /// damping with it, and it stays fixed when a last, shorter window shrinks `dt`.
-    pub damping_dt: f64,
+    /// 1/m for free nodes, 0 for fixed and attached ones; set by [`Model::prepare`].
+    pub inv_mass: Vec<f64>,
+    /// Stiffness between node pairs, for Kang's method; set by [`Model::prepare`].
+    pub couplings: Vec<(usize, usize, f64)>,
 }
 
 impl Model {
@@ -77,22 +76,54 @@ impl Model {
             .sum()
     }
 
-    /// Elastic energy of the springs plus gravitational energy of the masses [J].
+    /// Elastic energy of springs and membrane plus gravitational energy of the masses [J].
     pub fn potential_energy(&self) -> f64 {
-        let elastic: f64 = self
-            .springs
-            .iter()
-            .map(|s| crate::forces::spring_energy(s, &self.x))
-            .sum();
-        let gravity: f64 = (0..self.nodes())
-            .map(|n| {
-                -self.mass[n]
-                    * (0..3)
-                        .map(|c| self.gravity[c] * self.x[3 * n + c])
-                        .sum::<f64>()
+        crate::forces::elastic_energy(self, &self.x) + crate::forces::gravity_energy(self, &self.x)
+    }
+
+    /// Derive what the integrators read from the nodes and elements: the
+    /// inverse masses and the stiffness couplings. Call after building or
+    /// changing nodes and elements.
+    pub fn prepare(&mut self) {
+        self.inv_mass = (0..self.nodes())
+            .map(|n| match self.kind[n] {
+                NodeKind::Free if self.mass[n] > 0.0 => 1.0 / self.mass[n],
+                _ => 0.0,
             })
-            .sum();
-        elastic + gravity
+            .collect();
+        self.couplings = self.springs.iter().map(|s| (s.i, s.j, s.k)).collect();
+        for t in &self.membrane {
+            self.couplings.extend(t.edge_stiffness());
+        }
+    }
+
+    /// Advance by one step of `self.dt` with `integrator`: attached nodes follow
+    /// their body and collect the impulse the step gave them.
+    pub fn step(
+        &mut self,
+        integrator: &mut dyn Integrator,
+        loads: &Loads,
+    ) -> Result<(), StepError> {
+        let mut x = std::mem::take(&mut self.x);
+        let mut v = std::mem::take(&mut self.v);
+        let result = integrator.step(&Dynamics { model: self, loads }, self.dt, &mut x, &mut v);
+        self.x = x;
+        self.v = v;
+        result?;
+        let reaction = integrator.reaction();
+        for a in &mut self.attachments {
+            for c in 0..3 {
+                a.impulse[c] += reaction[3 * a.node + c];
+            }
+            a.tau += self.dt;
+        }
+        self.place_attached();
+        Ok(())
+    }
+
+    /// The total force at the current state, as the integrators see it.
+    pub fn force(&self, loads: &Loads, f: &mut [f64]) {
+        Dynamics { model: self, loads }.force(&self.x, &self.v, f);
     }
 
     /// Set the attachment points at the start of an impulse sub-step

@@ -314,6 +314,54 @@ const CASES: &[Case] = &[
         says: "invalid string",
         line_of: Some("end_time = = 10.0"),
     },
+    Case {
+        name: "viscous-without-coefficient",
+        edit: |t| {
+            replace(
+                t,
+                "integrator = \"euler-cromer\"",
+                "integrator = \"euler-cromer\"\ndamping = \"viscous\"",
+            )
+        },
+        key: Some("structure.damping_coefficient"),
+        says: "needs damping_coefficient",
+        line_of: None,
+    },
+    Case {
+        name: "newmark-gamma-below-half",
+        edit: |t| {
+            replace(
+                t,
+                "integrator = \"euler-cromer\"",
+                "integrator = \"newmark\"\nnewmark = { beta = 0.25, gamma = 0.3 }",
+            )
+        },
+        key: Some("structure.newmark.gamma"),
+        says: "must lie in [0.5, 1]",
+        line_of: Some("gamma = 0.3"),
+    },
+    Case {
+        name: "hht-alpha-out-of-range",
+        edit: |t| {
+            replace(
+                t,
+                "integrator = \"euler-cromer\"",
+                "integrator = \"hht\"\nhht = { alpha = 0.5 }",
+            )
+        },
+        key: Some("structure.hht.alpha"),
+        says: "must lie in [-1/3, 0]",
+        line_of: Some("alpha = 0.5"),
+    },
+    Case {
+        name: "spring-to-unknown-point",
+        edit: |t| {
+            format!("{t}\n[[structure.points]]\nname = \"p\"\nposition = [0.0, 0.0, 1.0]\nfixed = true\n\n[[structure.springs]]\nends = [\"p\", \"q\"]\nstiffness = 1.0\n")
+        },
+        key: Some("structure.springs[0].ends"),
+        says: "no point is named `q`",
+        line_of: Some("ends = "),
+    },
 ];
 
 /// 1-based line of the first occurrence of `needle` (which may span lines: its first line counts).

@@ -4,6 +4,7 @@
 mod check;
 mod error;
 pub mod fluid;
+pub mod integrator;
 pub mod rigid;
 mod spans;
 pub mod structure;

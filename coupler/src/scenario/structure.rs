@@ -1,6 +1,7 @@
 //! `[structure]`: the spring-mass canopy and strings (seed 003 §2.1, §3.2).
 
 use super::check::Checker;
+pub use super::integrator::{HhtParams, Integrator, NewmarkParams, NewtonParams, Scheme};
 use super::rigid::RigidSection;
 use serde::{Deserialize, Serialize};
 
@@ -16,27 +17,35 @@ pub fn default_gravity() -> [f64; 3] {
 pub struct StructureSection {
     #[serde(default)]
     pub integrator: Integrator,
+    /// β, γ for `integrator = "newmark"`.
+    #[serde(default)]
+    pub newmark: NewmarkParams,
+    /// α for `integrator = "hht"`.
+    #[serde(default)]
+    pub hht: HhtParams,
+    /// Newton and conjugate-gradient settings of the implicit schemes.
+    #[serde(default)]
+    pub newton: NewtonParams,
     /// Gravitational acceleration [m/s²].
     #[serde(default = "default_gravity")]
     pub gravity: [f64; 3],
     #[serde(default)]
     pub damping: Damping,
+    /// Viscous damping coefficient c [N·s/m] of seed 000 eq. (2.38), for `damping = "viscous"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping_coefficient: Option<f64>,
     /// The annulus canopy of seed 003 §2.2 / §3.2, outer rim fixed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub annulus: Option<Annulus>,
     /// Strings from a fixed anchor to an attachment point on a rigid body.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub strings: Vec<StringSpec>,
-}
-
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Integrator {
-    /// Velocity Verlet (seed 003 §2.4.7).
-    #[default]
-    VelocityVerlet,
-    /// Euler–Cromer / symplectic Euler (seed 003 eqs. 15–16).
-    EulerCromer,
+    /// Named mass points of a hand-built spring network (e.g. the spring pendulum).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub points: Vec<PointSpec>,
+    /// Hookean springs between named points.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub springs: Vec<SpringSpec>,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -46,6 +55,40 @@ pub enum Damping {
     None,
     /// Viscous force k_ij·Δt_s·(v_j − v_i) along every spring, seed 003 eq. (68).
     RelativeVelocity,
+    /// Dashpot c·V⁽ⁱⁿᵗ⁾ of seed 000 eq. (2.38), V⁽ⁱⁿᵗ⁾ taken as the rate of change
+    /// of each spring's length, with c = `damping_coefficient`.
+    Viscous,
+}
+
+/// How a generated fabric resists stretching: exactly one of the three.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Elasticity {
+    /// Uniform spring stiffness k [N/m] (seed 003 §3.2).
+    Uniform(f64),
+    /// k = A·E/l⁰ per edge (seed 003 eq. 71).
+    Fibre(Fibre),
+    /// Delingette triangular springs (seed 000 eqs. 2.29–2.37).
+    Membrane(Membrane),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fibre {
+    /// Cross-section area A [m²].
+    pub area: f64,
+    /// Young's modulus E [Pa].
+    pub young_modulus: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Membrane {
+    /// Young's modulus E [Pa].
+    pub young_modulus: f64,
+    /// Poisson ratio ν, in [0, 0.5).
+    pub poisson_ratio: f64,
+    /// Fabric thickness [m].
+    pub thickness: f64,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -61,13 +104,65 @@ pub struct Annulus {
     /// Nodes on the outer ring; inner rings get proportionally fewer.
     #[serde(default = "default_outer_nodes")]
     pub outer_nodes: u32,
-    /// Uniform spring stiffness k [N/m] (seed 003 §3.2).
-    pub stiffness: f64,
+    /// Uniform spring stiffness k [N/m] (seed 003 §3.2) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<f64>,
+    /// … or fibres with k = A·E/l⁰ (seed 003 eq. 71) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fibre: Option<Fibre>,
+    /// … or a Delingette membrane (seed 000 eqs. 2.29–2.37).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub membrane: Option<Membrane>,
     /// Fabric mass per area [kg/m²], lumped to the nodes.
     pub areal_density: f64,
     /// Height of the flat canopy plane [m].
     #[serde(default)]
     pub height: f64,
+}
+
+impl Annulus {
+    /// The one elasticity given; `check` has made sure there is exactly one.
+    pub fn elasticity(&self) -> Elasticity {
+        match (self.stiffness, self.fibre, self.membrane) {
+            (Some(k), _, _) => Elasticity::Uniform(k),
+            (_, Some(f), _) => Elasticity::Fibre(f),
+            (_, _, Some(m)) => Elasticity::Membrane(m),
+            _ => Elasticity::Uniform(f64::NAN),
+        }
+    }
+}
+
+fn check_elasticity(c: &mut Checker, k: Option<f64>, f: Option<&Fibre>, m: Option<&Membrane>) {
+    let given = k.is_some() as u8 + f.is_some() as u8 + m.is_some() as u8;
+    if given != 1 {
+        c.problem(
+            &["stiffness"],
+            "give exactly one of stiffness (N/m), fibre = { area, young_modulus } or \
+             membrane = { young_modulus, poisson_ratio, thickness }"
+                .into(),
+        );
+    }
+    if let Some(k) = k {
+        c.positive(&["stiffness"], k, "N/m");
+    }
+    if let Some(f) = f {
+        c.within("fibre", None, |c| {
+            c.positive(&["area"], f.area, "m²");
+            c.positive(&["young_modulus"], f.young_modulus, "Pa");
+        });
+    }
+    if let Some(m) = m {
+        c.within("membrane", None, |c| {
+            c.positive(&["young_modulus"], m.young_modulus, "Pa");
+            c.positive(&["thickness"], m.thickness, "m");
+            if !(m.poisson_ratio.is_finite() && (0.0..0.5).contains(&m.poisson_ratio)) {
+                c.problem(
+                    &["poisson_ratio"],
+                    format!("poisson_ratio = {} must lie in [0, 0.5)", m.poisson_ratio),
+                );
+            }
+        });
+    }
 }
 
 fn default_rings() -> u32 {
@@ -93,13 +188,58 @@ pub struct StringSpec {
     pub compressive_tolerance: f64,
 }
 
+/// A named mass point of a hand-built network.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointSpec {
+    pub name: String,
+    /// Initial position [m].
+    pub position: [f64; 3],
+    /// Initial velocity [m/s].
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Mass [kg]; ignored for fixed points.
+    #[serde(default)]
+    pub mass: f64,
+    /// Held in place.
+    #[serde(default)]
+    pub fixed: bool,
+}
+
+/// A Hookean spring between two named points (seed 003 eq. 67).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    pub ends: [String; 2],
+    /// Stiffness k [N/m].
+    pub stiffness: f64,
+    /// Rest length l⁰ [m]; the initial distance of the ends if left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rest_length: Option<f64>,
+}
+
 impl StructureSection {
+    /// The integrator with its parameters resolved.
+    pub fn scheme(&self) -> Scheme {
+        Scheme::resolve(self.integrator, self.newmark, self.hht, self.newton)
+    }
+
     pub fn check(&self, c: &mut Checker, rigid: Option<&RigidSection>) {
         c.within("structure", None, |c| {
             c.finite3(&["gravity"], self.gravity);
-            if self.annulus.is_none() && self.strings.is_empty() {
-                c.problem(&[], "has nothing to simulate: give [structure.annulus] or [[structure.strings]]".into());
+            if self.annulus.is_none() && self.strings.is_empty() && self.points.is_empty() {
+                c.problem(&[], "has nothing to simulate: give [structure.annulus], [[structure.strings]] or [[structure.points]]".into());
             }
+            super::integrator::check_params(c, &self.newmark, &self.hht, &self.newton);
+            match (self.damping, self.damping_coefficient) {
+                (Damping::Viscous, None) => c.problem(&["damping_coefficient"],
+                    "damping = \"viscous\" needs damping_coefficient = c (N·s/m, seed 000 eq. 2.38)".into()),
+                (Damping::Viscous, Some(d)) => c.finite_nonneg(&["damping_coefficient"], d),
+                (_, Some(_)) => c.problem(&["damping_coefficient"],
+                    "damping_coefficient is used only with damping = \"viscous\"".into()),
+                _ => {}
+            }
+            self.check_network(c);
             if let Some(a) = &self.annulus {
                 c.within("annulus", None, |c| {
                     c.positive(&["inner_radius"], a.inner_radius, "m");
@@ -116,7 +256,7 @@ impl StructureSection {
                     if a.outer_nodes < 6 {
                         c.problem(&["outer_nodes"], format!("outer_nodes = {} must be at least 6", a.outer_nodes));
                     }
-                    c.positive(&["stiffness"], a.stiffness, "N/m");
+                    check_elasticity(c, a.stiffness, a.fibre.as_ref(), a.membrane.as_ref());
                     c.positive(&["areal_density"], a.areal_density, "kg/m²");
                     c.finite(&["height"], a.height);
                 });
@@ -138,5 +278,42 @@ impl StructureSection {
                 });
             }
         });
+    }
+
+    fn check_network(&self, c: &mut Checker) {
+        for (i, p) in self.points.iter().enumerate() {
+            c.within("points", Some(i), |c| {
+                c.plain_name(&["name"], &p.name, true);
+                if self.points[..i].iter().any(|q| q.name == p.name) {
+                    c.problem(
+                        &["name"],
+                        format!("a point named `{}` is already defined", p.name),
+                    );
+                }
+                c.finite3(&["position"], p.position);
+                c.finite3(&["velocity"], p.velocity);
+                if p.fixed {
+                    c.finite_nonneg(&["mass"], p.mass);
+                } else {
+                    c.positive(&["mass"], p.mass, "kg");
+                }
+            });
+        }
+        for (i, s) in self.springs.iter().enumerate() {
+            c.within("springs", Some(i), |c| {
+                for end in &s.ends {
+                    if !self.points.iter().any(|p| &p.name == end) {
+                        c.problem(&["ends"], format!("no point is named `{end}`"));
+                    }
+                }
+                if s.ends[0] == s.ends[1] {
+                    c.problem(&["ends"], "a spring needs two different points".into());
+                }
+                c.positive(&["stiffness"], s.stiffness, "N/m");
+                if let Some(l) = s.rest_length {
+                    c.positive(&["rest_length"], l, "m");
+                }
+            });
+        }
     }
 }

@@ -1,0 +1,264 @@
+//! `[structure] integrator = "…"` and the parameters of the schemes that have any
+//! (seed 003 §2.4).
+
+use super::check::Checker;
+use serde::{Deserialize, Serialize};
+
+/// The time integrator of the structure, one key in the scenario.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Integrator {
+    /// Explicit (forward) Euler, seed 003 §2.4.1.
+    ExplicitEuler,
+    /// Euler–Cromer / symplectic Euler, seed 003 eqs. (15)–(16).
+    EulerCromer,
+    /// Euler–Richardson (midpoint), seed 003 eqs. (17)–(22).
+    EulerRichardson,
+    /// Improved explicit Euler (Heun), seed 003 eqs. (23)–(24).
+    ImprovedEuler,
+    /// Newmark with β, γ from `[structure.newmark]`, seed 003 eqs. (25)–(26).
+    Newmark,
+    /// Newmark's average-acceleration preset, β = 1/4, γ = 1/2.
+    NewmarkAverageAcceleration,
+    /// Newmark's linear-acceleration preset, β = 1/6, γ = 1/2.
+    NewmarkLinearAcceleration,
+    /// Velocity Verlet, seed 003 eqs. (37)–(40).
+    #[default]
+    VelocityVerlet,
+    /// Hilber–Hughes–Taylor α, seed 003 §2.4.7, α from `[structure.hht]`.
+    Hht,
+    /// Classical fourth-order Runge–Kutta, seed 003 eqs. (42)–(51).
+    Rk4,
+    /// Kang's fast approximated implicit method, seed 003 eqs. (52)–(57).
+    Kang,
+    /// Backward Euler with Newton iterations and conjugate gradients (Baraff & Witkin 1998).
+    BackwardEuler,
+}
+
+impl Integrator {
+    pub const ALL: [Integrator; 12] = [
+        Integrator::ExplicitEuler,
+        Integrator::EulerCromer,
+        Integrator::EulerRichardson,
+        Integrator::ImprovedEuler,
+        Integrator::Newmark,
+        Integrator::NewmarkAverageAcceleration,
+        Integrator::NewmarkLinearAcceleration,
+        Integrator::VelocityVerlet,
+        Integrator::Hht,
+        Integrator::Rk4,
+        Integrator::Kang,
+        Integrator::BackwardEuler,
+    ];
+
+    /// The scenario spelling, e.g. `"velocity-verlet"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::ExplicitEuler => "explicit-euler",
+            Integrator::EulerCromer => "euler-cromer",
+            Integrator::EulerRichardson => "euler-richardson",
+            Integrator::ImprovedEuler => "improved-euler",
+            Integrator::Newmark => "newmark",
+            Integrator::NewmarkAverageAcceleration => "newmark-average-acceleration",
+            Integrator::NewmarkLinearAcceleration => "newmark-linear-acceleration",
+            Integrator::VelocityVerlet => "velocity-verlet",
+            Integrator::Hht => "hht",
+            Integrator::Rk4 => "rk4",
+            Integrator::Kang => "kang",
+            Integrator::BackwardEuler => "backward-euler",
+        }
+    }
+
+    /// Whether the scheme solves a nonlinear system with Newton iterations.
+    pub fn is_implicit(self) -> bool {
+        matches!(
+            self,
+            Integrator::Newmark
+                | Integrator::NewmarkAverageAcceleration
+                | Integrator::NewmarkLinearAcceleration
+                | Integrator::Hht
+                | Integrator::BackwardEuler
+        )
+    }
+}
+
+/// `[structure.newmark]`: β and γ of seed 003 eqs. (25)–(26) for `integrator = "newmark"`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NewmarkParams {
+    #[serde(default = "quarter")]
+    pub beta: f64,
+    #[serde(default = "half")]
+    pub gamma: f64,
+}
+
+impl Default for NewmarkParams {
+    fn default() -> Self {
+        NewmarkParams {
+            beta: 0.25,
+            gamma: 0.5,
+        }
+    }
+}
+
+/// `[structure.hht]`: Hilber–Hughes–Taylor α ∈ [−1/3, 0]; β = (1 − α)²/4 and
+/// γ = 1/2 − α follow from it (Hilber, Hughes & Taylor 1977).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HhtParams {
+    #[serde(default = "default_alpha")]
+    pub alpha: f64,
+}
+
+impl Default for HhtParams {
+    fn default() -> Self {
+        HhtParams {
+            alpha: default_alpha(),
+        }
+    }
+}
+
+/// `[structure.newton]`: the nonlinear solve of the implicit schemes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NewtonParams {
+    /// Stop when the correction of the acceleration is this small relative to it.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    #[serde(default = "default_iterations")]
+    pub max_iterations: u32,
+    /// Relative residual at which conjugate gradients stop.
+    #[serde(default = "default_cg_tolerance")]
+    pub cg_tolerance: f64,
+    #[serde(default = "default_cg_iterations")]
+    pub max_cg_iterations: u32,
+}
+
+impl Default for NewtonParams {
+    fn default() -> Self {
+        NewtonParams {
+            tolerance: default_tolerance(),
+            max_iterations: default_iterations(),
+            cg_tolerance: default_cg_tolerance(),
+            max_cg_iterations: default_cg_iterations(),
+        }
+    }
+}
+
+fn quarter() -> f64 {
+    0.25
+}
+fn half() -> f64 {
+    0.5
+}
+fn default_alpha() -> f64 {
+    -0.1
+}
+fn default_tolerance() -> f64 {
+    1e-10
+}
+fn default_iterations() -> u32 {
+    30
+}
+fn default_cg_tolerance() -> f64 {
+    1e-12
+}
+fn default_cg_iterations() -> u32 {
+    2000
+}
+
+/// The scheme with its parameters resolved, as the structure solver uses it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Scheme {
+    ExplicitEuler,
+    EulerCromer,
+    EulerRichardson,
+    ImprovedEuler,
+    VelocityVerlet,
+    Rk4,
+    Kang,
+    /// Newmark (α = 0) and HHT-α: M·a₊ = (1 + α)·F₊ − α·F.
+    Newmark {
+        beta: f64,
+        gamma: f64,
+        alpha: f64,
+        newton: NewtonParams,
+    },
+    BackwardEuler {
+        newton: NewtonParams,
+    },
+}
+
+impl Scheme {
+    pub fn resolve(
+        i: Integrator,
+        newmark: NewmarkParams,
+        hht: HhtParams,
+        newton: NewtonParams,
+    ) -> Scheme {
+        let nm = |beta, gamma, alpha| Scheme::Newmark {
+            beta,
+            gamma,
+            alpha,
+            newton,
+        };
+        match i {
+            Integrator::ExplicitEuler => Scheme::ExplicitEuler,
+            Integrator::EulerCromer => Scheme::EulerCromer,
+            Integrator::EulerRichardson => Scheme::EulerRichardson,
+            Integrator::ImprovedEuler => Scheme::ImprovedEuler,
+            Integrator::VelocityVerlet => Scheme::VelocityVerlet,
+            Integrator::Rk4 => Scheme::Rk4,
+            Integrator::Kang => Scheme::Kang,
+            Integrator::Newmark => nm(newmark.beta, newmark.gamma, 0.0),
+            Integrator::NewmarkAverageAcceleration => nm(0.25, 0.5, 0.0),
+            Integrator::NewmarkLinearAcceleration => nm(1.0 / 6.0, 0.5, 0.0),
+            Integrator::Hht => {
+                let a = hht.alpha;
+                nm((1.0 - a).powi(2) / 4.0, 0.5 - a, a)
+            }
+            Integrator::BackwardEuler => Scheme::BackwardEuler { newton },
+        }
+    }
+}
+
+pub(crate) fn check_params(
+    c: &mut Checker,
+    newmark: &NewmarkParams,
+    hht: &HhtParams,
+    newton: &NewtonParams,
+) {
+    c.within("newmark", None, |c| {
+        if !(newmark.beta.is_finite() && (0.0..=0.5).contains(&newmark.beta)) {
+            c.problem(
+                &["beta"],
+                format!("beta = {} must lie in [0, 0.5]", newmark.beta),
+            );
+        }
+        if !(newmark.gamma.is_finite() && (0.5..=1.0).contains(&newmark.gamma)) {
+            c.problem(
+                &["gamma"],
+                format!(
+                    "gamma = {} must lie in [0.5, 1] (γ < 1/2 adds energy)",
+                    newmark.gamma
+                ),
+            );
+        }
+    });
+    c.within("hht", None, |c| {
+        if !(hht.alpha.is_finite() && (-1.0 / 3.0..=0.0).contains(&hht.alpha)) {
+            c.problem(
+                &["alpha"],
+                format!("alpha = {} must lie in [-1/3, 0]", hht.alpha),
+            );
+        }
+    });
+    c.within("newton", None, |c| {
+        c.fraction(&["tolerance"], newton.tolerance);
+        c.fraction(&["cg_tolerance"], newton.cg_tolerance);
+        c.nonzero(&["max_iterations"], newton.max_iterations as f64);
+        c.at_most(&["max_iterations"], newton.max_iterations as f64, 1e4);
+        c.nonzero(&["max_cg_iterations"], newton.max_cg_iterations as f64);
+        c.at_most(&["max_cg_iterations"], newton.max_cg_iterations as f64, 1e7);
+    });
+}

@@ -1,0 +1,64 @@
+//! Viscous damping between the two ends of a spring. Two laws, one per seed:
+//! - seed 003 eq. (68): F_v,i = Σ_j k_ij·Δt·(v_j − v_i), the whole relative velocity;
+//! - seed 000 eq. (2.38): F_d = c·V⁽ⁱⁿᵗ⁾. We read V⁽ⁱⁿᵗ⁾, "the velocity due to the
+//!   spring force only", as the rate of change of each spring's length, so the
+//!   dashpot acts along the spring: F_d,i = c·((v_j − v_i)·e)·e. Rigid motion, and
+//!   with it linear and angular momentum, is left alone.
+//! Neither has an energy; both dissipate.
+
+use super::spring::{add_to, point};
+use nalgebra::Vector3;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Law {
+    /// Seed 003 eq. (68).
+    RelativeVelocity,
+    /// Seed 000 eq. (2.38), along the spring.
+    Axial,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Damper {
+    pub i: usize,
+    pub j: usize,
+    /// Coefficient [N·s/m]: k_ij·Δt for eq. (68), c for eq. (2.38).
+    pub c: f64,
+    /// Length below which the damper is idle: a slack string carries no force,
+    /// viscous or elastic (seed 003 eq. 3). 0 for springs.
+    pub slack_below: f64,
+}
+
+impl Damper {
+    #[inline]
+    fn geometry(&self, x: &[f64]) -> Option<Vector3<f64>> {
+        let d = point(x, self.j) - point(x, self.i);
+        let l = d.norm();
+        (l > self.slack_below && l > 0.0).then(|| d / l)
+    }
+
+    /// Adds the damping force to both ends.
+    #[inline]
+    pub fn add_force(&self, law: Law, x: &[f64], v: &[f64], f: &mut [f64]) {
+        let Some(e) = self.geometry(x) else { return };
+        let dv = point(v, self.j) - point(v, self.i);
+        let fd = match law {
+            Law::RelativeVelocity => dv * self.c,
+            Law::Axial => e * (self.c * e.dot(&dv)),
+        };
+        add_to(f, self.i, &fd);
+        add_to(f, self.j, &-fd);
+    }
+
+    /// Adds s·C·p, C = −∂F/∂v (symmetric, positive semi-definite).
+    #[inline]
+    pub fn add_damping_product(&self, law: Law, x: &[f64], s: f64, p: &[f64], out: &mut [f64]) {
+        let Some(e) = self.geometry(x) else { return };
+        let q = point(p, self.j) - point(p, self.i);
+        let g = match law {
+            Law::RelativeVelocity => q * (self.c * s),
+            Law::Axial => e * (self.c * s * e.dot(&q)),
+        };
+        add_to(out, self.j, &g);
+        add_to(out, self.i, &-g);
+    }
+}

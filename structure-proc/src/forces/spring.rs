@@ -1,0 +1,85 @@
+//! Hookean springs (seed 003 eq. 67) and strings that carry tension only, beyond
+//! a compressive tolerance (seed 003 eq. 3).
+
+use nalgebra::{Matrix3, Vector3};
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spring {
+    pub i: usize,
+    pub j: usize,
+    /// Stiffness k_ij [N/m].
+    pub k: f64,
+    /// Rest length l⁰_ij [m].
+    pub rest: f64,
+    /// Strings carry tension only, beyond the compressive tolerance eps (seed 003 eq. 3).
+    pub tension_only: bool,
+    pub eps: f64,
+}
+
+#[inline]
+pub fn point(x: &[f64], n: usize) -> Vector3<f64> {
+    Vector3::new(x[3 * n], x[3 * n + 1], x[3 * n + 2])
+}
+
+#[inline]
+pub fn add_to(out: &mut [f64], n: usize, f: &Vector3<f64>) {
+    out[3 * n] += f[0];
+    out[3 * n + 1] += f[1];
+    out[3 * n + 2] += f[2];
+}
+
+/// ∂²l/∂x_j² of a length l = |d|: (I − e eᵀ)/l. Shared with the Delingette springs.
+#[inline]
+pub fn length_hessian(e: &Vector3<f64>, l: f64) -> Matrix3<f64> {
+    (Matrix3::identity() - e * e.transpose()) / l
+}
+
+impl Spring {
+    /// Stretch that produces force: l − l⁰ for a spring (eq. 67),
+    /// max(l − l⁰ − eps, 0) for a string (eq. 3).
+    #[inline]
+    pub fn stretch(&self, l: f64) -> f64 {
+        if self.tension_only {
+            (l - self.rest - self.eps).max(0.0)
+        } else {
+            l - self.rest
+        }
+    }
+
+    /// Elastic energy ½ k δ², δ the active stretch.
+    pub fn energy(&self, x: &[f64]) -> f64 {
+        let l = (point(x, self.j) - point(x, self.i)).norm();
+        0.5 * self.k * self.stretch(l).powi(2)
+    }
+
+    /// Adds the spring force k δ e to node i and its opposite to node j (eq. 67).
+    #[inline]
+    pub fn add_force(&self, x: &[f64], f: &mut [f64]) {
+        let d = point(x, self.j) - point(x, self.i);
+        let l = d.norm();
+        let t = self.k * self.stretch(l);
+        if t != 0.0 && l > 0.0 {
+            let fe = d * (t / l);
+            add_to(f, self.i, &fe);
+            add_to(f, self.j, &-fe);
+        }
+    }
+
+    /// Adds s·K·p, K = ∂²E/∂x² with the geometric part (T/l)(I − eeᵀ) kept only
+    /// under tension so that K stays positive semi-definite.
+    #[inline]
+    pub fn add_stiffness_product(&self, x: &[f64], s: f64, p: &[f64], out: &mut [f64]) {
+        let d = point(x, self.j) - point(x, self.i);
+        let l = d.norm();
+        let stretch = self.stretch(l);
+        if l == 0.0 || (self.tension_only && stretch == 0.0) {
+            return;
+        }
+        let e = d / l;
+        let t = (self.k * stretch).max(0.0);
+        let q = point(p, self.j) - point(p, self.i);
+        let g = (e * (self.k * e.dot(&q)) + length_hessian(&e, l) * q * t) * s;
+        add_to(out, self.j, &g);
+        add_to(out, self.i, &-g);
+    }
+}

@@ -1,0 +1,146 @@
+//! The time integrators of seed 003 §2.4 plus backward Euler, each implemented
+//! once against [`Integrator`] and used by every scene.
+//!
+//! An integrator advances the flat state (x, v) of a [`System`]. Nodes with
+//! 1/m = 0 are not accelerated: fixed nodes keep v = 0 and attached nodes keep
+//! the constant velocity of their rigid body, so every scheme carries them
+//! exactly. The force on those nodes is what the structure exerts on whatever
+//! holds them; integrated over the step with the scheme's own velocity weights it
+//! is the step's [`Integrator::reaction`], the impulse sent to rigid-proc.
+
+mod backward_euler;
+mod cg;
+mod euler_cromer;
+mod euler_richardson;
+mod explicit_euler;
+mod improved_euler;
+mod kang;
+mod newmark;
+mod newton;
+mod rk4;
+mod velocity_verlet;
+
+pub use crate::system::System;
+pub use coupler::scenario::structure::{NewtonParams, Scheme};
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StepError {
+    #[error("Newton iterations did not converge in {iterations} iterations (last correction {correction:.3e} m)")]
+    NoConvergence { iterations: u32, correction: f64 },
+    #[error("a non-finite value appeared in the Newton iterations")]
+    NonFinite,
+}
+
+pub trait Integrator: Send {
+    /// Advance `x`, `v` of `sys` by one step `h`.
+    fn step(
+        &mut self,
+        sys: &dyn System,
+        h: f64,
+        x: &mut [f64],
+        v: &mut [f64],
+    ) -> Result<(), StepError>;
+
+    /// Impulse ∫F dt [N·s] of the last step on the nodes with 1/m = 0 (3 per node, 0 elsewhere).
+    fn reaction(&self) -> &[f64];
+}
+
+/// The integrator for `scheme`.
+pub fn integrator(scheme: Scheme) -> Box<dyn Integrator> {
+    match scheme {
+        Scheme::ExplicitEuler => Box::<explicit_euler::ExplicitEuler>::default(),
+        Scheme::EulerCromer => Box::<euler_cromer::EulerCromer>::default(),
+        Scheme::EulerRichardson => Box::<euler_richardson::EulerRichardson>::default(),
+        Scheme::ImprovedEuler => Box::<improved_euler::ImprovedEuler>::default(),
+        Scheme::VelocityVerlet => Box::<velocity_verlet::VelocityVerlet>::default(),
+        Scheme::Rk4 => Box::<rk4::Rk4>::default(),
+        Scheme::Kang => Box::<kang::Kang>::default(),
+        Scheme::Newmark {
+            beta,
+            gamma,
+            alpha,
+            newton,
+        } => Box::new(newmark::Newmark::new(beta, gamma, alpha, newton)),
+        Scheme::BackwardEuler { newton } => Box::new(backward_euler::BackwardEuler::new(newton)),
+    }
+}
+
+/// The global order of accuracy a scheme should show on smooth problems.
+pub fn theoretical_order(scheme: Scheme) -> u32 {
+    match scheme {
+        Scheme::ExplicitEuler
+        | Scheme::EulerCromer
+        | Scheme::Kang
+        | Scheme::BackwardEuler { .. } => 1,
+        Scheme::EulerRichardson | Scheme::ImprovedEuler | Scheme::VelocityVerlet => 2,
+        // γ = 1/2 gives second order; any other γ, first (seed 003 §2.4.5).
+        Scheme::Newmark { gamma, alpha, .. } => {
+            if (gamma - 0.5 + alpha).abs() < 1e-12 {
+                2
+            } else {
+                1
+            }
+        }
+        Scheme::Rk4 => 4,
+    }
+}
+
+/// Work arrays of a scheme and the reaction of its last step.
+pub struct Work<const K: usize> {
+    bufs: [Vec<f64>; K],
+    reaction: Vec<f64>,
+}
+
+impl<const K: usize> Default for Work<K> {
+    fn default() -> Self {
+        Work {
+            bufs: std::array::from_fn(|_| Vec::new()),
+            reaction: Vec::new(),
+        }
+    }
+}
+
+impl<const K: usize> Work<K> {
+    /// Start a step on `len` values: K work arrays (contents unspecified) and a zero reaction.
+    fn begin(&mut self, len: usize) -> (&mut [Vec<f64>; K], &mut [f64]) {
+        for b in &mut self.bufs {
+            b.resize(len, 0.0);
+        }
+        self.reaction.clear();
+        self.reaction.resize(len, 0.0);
+        (&mut self.bufs, &mut self.reaction)
+    }
+}
+
+/// v ← v + h·f/m; where 1/m = 0, the impulse h·f goes to `reaction` instead.
+fn kick(v: &mut [f64], f: &[f64], inv_mass: &[f64], h: f64, reaction: &mut [f64]) {
+    for (i, vi) in v.iter_mut().enumerate() {
+        let w = inv_mass[i / 3];
+        if w == 0.0 {
+            reaction[i] += h * f[i];
+        } else {
+            *vi += h * f[i] * w;
+        }
+    }
+}
+
+/// out ← v + h·f/m (velocity after a trial kick; held nodes keep theirs).
+fn kicked(out: &mut [f64], v: &[f64], f: &[f64], inv_mass: &[f64], h: f64) {
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = v[i] + h * f[i] * inv_mass[i / 3];
+    }
+}
+
+/// out ← x + h·v.
+fn advanced(out: &mut [f64], x: &[f64], v: &[f64], h: f64) {
+    for ((o, xi), vi) in out.iter_mut().zip(x).zip(v) {
+        *o = xi + h * vi;
+    }
+}
+
+/// x ← x + h·v.
+fn drift(x: &mut [f64], v: &[f64], h: f64) {
+    for (xi, vi) in x.iter_mut().zip(v) {
+        *xi += h * vi;
+    }
+}

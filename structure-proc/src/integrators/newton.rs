@@ -1,0 +1,143 @@
+//! The nonlinear solve shared by the implicit schemes (Newmark, HHT-α, backward
+//! Euler): find the end-of-step acceleration a with
+//!   M·a = w·F(x̂ + b·a, v̂ + g·a) + e,
+//! where x̂, v̂ are the scheme's predictors. Newton's method linearises it to
+//!   (M + w·(b·K + g·C))·Δa = w·F + e − M·a,
+//! K = −∂F/∂x, C = −∂F/∂v, and conjugate gradients solve that sparse symmetric
+//! system matrix-free, in the manner of Baraff & Witkin (SIGGRAPH 1998).
+
+use super::cg::Cg;
+use super::{NewtonParams, StepError, System};
+
+/// One scheme's equation for a.
+pub struct Target<'a> {
+    pub xhat: &'a [f64],
+    pub vhat: &'a [f64],
+    pub b: f64,
+    pub g: f64,
+    pub w: f64,
+    /// e, when the scheme has one (HHT's −α·F_n).
+    pub extra: Option<&'a [f64]>,
+}
+
+#[derive(Default)]
+pub struct Newton {
+    pub params: NewtonParams,
+    /// Force at the converged state.
+    pub f: Vec<f64>,
+    /// Converged positions x̂ + b·a and velocities v̂ + g·a.
+    pub x: Vec<f64>,
+    pub v: Vec<f64>,
+    rhs: Vec<f64>,
+    da: Vec<f64>,
+    precond: Vec<f64>,
+    cg: Cg,
+}
+
+/// Length of the bounding-box diagonal of the points in `x`.
+fn extent(x: &[f64]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in x.chunks_exact(3) {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    (0..3).map(|c| (hi[c] - lo[c]).powi(2)).sum::<f64>().sqrt()
+}
+
+impl Newton {
+    pub fn new(params: NewtonParams) -> Newton {
+        Newton {
+            params,
+            ..Default::default()
+        }
+    }
+
+    /// Solve for `a` (in: initial guess; held dofs stay 0). Converged when the
+    /// position change a correction implies, max(b, g·h)·‖Δa‖∞, falls below
+    /// `tolerance` times the extent of the structure.
+    pub fn solve(
+        &mut self,
+        sys: &dyn System,
+        h: f64,
+        t: &Target,
+        a: &mut [f64],
+    ) -> Result<(), StepError> {
+        let n = a.len();
+        for buf in [
+            &mut self.f,
+            &mut self.x,
+            &mut self.v,
+            &mut self.rhs,
+            &mut self.da,
+            &mut self.precond,
+        ] {
+            buf.resize(n, 0.0);
+        }
+        let inv_mass = sys.inv_mass();
+        for d in 0..n {
+            self.precond[d] = inv_mass[d / 3];
+            if inv_mass[d / 3] == 0.0 {
+                a[d] = 0.0;
+            }
+        }
+        let tolerance = self.params.tolerance * extent(t.xhat).max(f64::MIN_POSITIVE);
+        let lever = t.b.max(t.g * h);
+        let mut correction = f64::INFINITY;
+        for iteration in 0..=self.params.max_iterations {
+            for d in 0..n {
+                self.x[d] = t.xhat[d] + t.b * a[d];
+                self.v[d] = t.vhat[d] + t.g * a[d];
+            }
+            sys.force(&self.x, &self.v, &mut self.f);
+            if iteration > 0 && correction <= tolerance {
+                return Ok(());
+            }
+            if iteration == self.params.max_iterations {
+                break;
+            }
+            for d in 0..n {
+                let w = inv_mass[d / 3];
+                self.rhs[d] = if w == 0.0 {
+                    0.0
+                } else {
+                    t.w * self.f[d] + t.extra.map_or(0.0, |e| e[d]) - a[d] / w
+                };
+            }
+            if self.rhs.iter().any(|r| !r.is_finite()) {
+                return Err(StepError::NonFinite);
+            }
+            let (x, v, precond) = (&self.x, &self.v, &self.precond);
+            let (kb, kg) = (t.w * t.b, t.w * t.g);
+            self.cg.solve(
+                |p, out| {
+                    sys.jacobian_product(x, v, kb, kg, p, out);
+                    for d in 0..n {
+                        let w = precond[d];
+                        out[d] = if w == 0.0 { 0.0 } else { out[d] + p[d] / w };
+                    }
+                },
+                &self.rhs,
+                precond,
+                &mut self.da,
+                self.params.cg_tolerance,
+                self.params.max_cg_iterations,
+            );
+            let mut largest = 0.0f64;
+            for d in 0..n {
+                a[d] += self.da[d];
+                largest = largest.max(self.da[d].abs());
+            }
+            correction = lever * largest;
+            if !correction.is_finite() {
+                return Err(StepError::NonFinite);
+            }
+        }
+        Err(StepError::NoConvergence {
+            iterations: self.params.max_iterations,
+            correction,
+        })
+    }
+}

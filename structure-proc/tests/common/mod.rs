@@ -1,0 +1,94 @@
+//! Models shared by the structure tests.
+#![allow(dead_code)]
+
+pub use coupler::scenario::structure::{
+    Annulus, Damping, Elasticity, Fibre, Integrator, Membrane, NewtonParams, Scheme,
+    StructureSection,
+};
+use structure_proc::forces::damping::Law;
+use structure_proc::Model;
+
+pub fn uniform(k: f64) -> Elasticity {
+    Elasticity::Uniform(k)
+}
+pub fn fibre(area: f64, young_modulus: f64) -> Elasticity {
+    Elasticity::Fibre(Fibre {
+        area,
+        young_modulus,
+    })
+}
+pub fn membrane(young_modulus: f64, poisson_ratio: f64, thickness: f64) -> Elasticity {
+    Elasticity::Membrane(Membrane {
+        young_modulus,
+        poisson_ratio,
+        thickness,
+    })
+}
+
+/// The annulus canopy of seed 003 §3.2 (rim fixed) with the given elasticity.
+pub fn canopy(e: Elasticity, gravity: [f64; 3], damping: Option<Law>) -> Model {
+    let (stiffness, fibre, membrane) = match e {
+        Elasticity::Uniform(k) => (Some(k), None, None),
+        Elasticity::Fibre(f) => (None, Some(f), None),
+        Elasticity::Membrane(m) => (None, None, Some(m)),
+    };
+    let section = StructureSection {
+        integrator: Integrator::VelocityVerlet,
+        newmark: Default::default(),
+        hht: Default::default(),
+        newton: Default::default(),
+        gravity,
+        damping: match damping {
+            None => Damping::None,
+            Some(Law::RelativeVelocity) => Damping::RelativeVelocity,
+            Some(Law::Axial) => Damping::Viscous,
+        },
+        damping_coefficient: (damping == Some(Law::Axial)).then_some(0.02),
+        annulus: Some(Annulus {
+            inner_radius: 0.1,
+            outer_radius: 1.0,
+            rings: 12,
+            outer_nodes: 107,
+            stiffness,
+            fibre,
+            membrane,
+            areal_density: 1.0,
+            height: 0.0,
+        }),
+        strings: vec![],
+        points: vec![],
+        springs: vec![],
+    };
+    structure_proc::build_model(&section, None, 1e-3).unwrap()
+}
+
+/// Bend and shear the canopy so every element is stretched or compressed.
+pub fn deform(m: &mut Model) {
+    for n in 0..m.nodes() {
+        let (x, y) = (m.x[3 * n], m.x[3 * n + 1]);
+        m.x[3 * n + 2] = 0.3 * (1.0 - x * x - y * y) + 0.01 * (7.0 * x).sin();
+        m.x[3 * n] *= 1.0 + 0.02 * y;
+    }
+}
+
+/// Every scheme with its parameters, Newmark in three variants.
+pub fn all_schemes() -> Vec<Scheme> {
+    let newton = NewtonParams::default();
+    let mut v: Vec<Scheme> = Integrator::ALL
+        .iter()
+        .map(|&i| Scheme::resolve(i, Default::default(), Default::default(), newton))
+        .collect();
+    // A first-order Newmark: γ ≠ 1/2.
+    v.push(Scheme::Newmark {
+        beta: 0.3,
+        gamma: 0.6,
+        alpha: 0.0,
+        newton,
+    });
+    v
+}
+
+/// Whether the scheme solves with Newton iterations and conjugate gradients.
+pub fn is_newton(s: Scheme) -> bool {
+    matches!(s, Scheme::Newmark { .. } | Scheme::BackwardEuler { .. })
+}
