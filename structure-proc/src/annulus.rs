@@ -7,6 +7,8 @@
 //! merging their nodes in angle order. With the defaults (12 rings, 107 nodes
 //! on the rim) that gives 705 nodes and 1292 triangles.
 
+pub use crate::rings::MeshError;
+use crate::rings::{ring_mesh, Ring};
 use std::f64::consts::PI;
 
 pub struct AnnulusMesh {
@@ -20,10 +22,6 @@ pub struct AnnulusMesh {
     pub inner: Vec<usize>,
 }
 
-#[derive(Debug, thiserror::Error)]
-#[error("annulus mesh: {0}")]
-pub struct MeshError(pub String);
-
 pub fn annulus(
     r_in: f64,
     r_out: f64,
@@ -31,61 +29,25 @@ pub fn annulus(
     outer_nodes: usize,
     z: f64,
 ) -> Result<AnnulusMesh, MeshError> {
-    let mut points = Vec::new();
-    let mut ring_start = Vec::new();
-    let mut ring_len = Vec::new();
-    let mut ring_phase = Vec::new();
-    for i in 0..rings {
-        let r = r_in + (r_out - r_in) * i as f64 / (rings - 1) as f64;
-        let n = ((outer_nodes as f64 * r / r_out).round() as usize).max(6);
-        // Alternate rings are rotated by half a spacing so the strips stay well shaped.
-        let phase = if i % 2 == 1 { PI / n as f64 } else { 0.0 };
-        ring_start.push(points.len() / 3);
-        ring_len.push(n);
-        ring_phase.push(phase);
-        for k in 0..n {
-            let th = phase + 2.0 * PI * k as f64 / n as f64;
-            points.extend_from_slice(&[r * th.cos(), r * th.sin(), z]);
-        }
-    }
-    let mut triangles = Vec::new();
-    for i in 0..rings - 1 {
-        let (sa, na, pa) = (ring_start[i], ring_len[i], ring_phase[i]);
-        let (sb, nb, pb) = (ring_start[i + 1], ring_len[i + 1], ring_phase[i + 1]);
-        let ang = |phase: f64, n: usize, k: usize| phase + 2.0 * PI * k as f64 / n as f64;
-        let (mut ia, mut ib) = (0usize, 0usize);
-        while ia < na || ib < nb {
-            let next_a = ang(pa, na, ia + 1);
-            let next_b = ang(pb, nb, ib + 1);
-            let a0 = sa + ia % na;
-            let b0 = sb + ib % nb;
-            let tri = if ib == nb || (ia < na && next_a <= next_b) {
-                ia += 1;
-                [a0, sa + ia % na, b0]
-            } else {
-                ib += 1;
-                [a0, sb + ib % nb, b0]
-            };
-            triangles.push(tri);
-        }
-    }
-    for tri in &mut triangles {
-        let n = crate::forces::area_normal2(&points, tri);
-        if n[2] < 0.0 {
-            tri.swap(1, 2);
-        }
-        let area = 0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        if area <= 1e-12 * r_out * r_out {
-            return Err(MeshError(format!(
-                "degenerate triangle {tri:?} (area {area:e} m²)"
-            )));
-        }
-    }
-    let last = rings - 1;
+    let rings: Vec<Ring> = (0..rings)
+        .map(|i| {
+            let radius = r_in + (r_out - r_in) * i as f64 / (rings - 1) as f64;
+            let nodes = ((outer_nodes as f64 * radius / r_out).round() as usize).max(6);
+            // Alternate rings are rotated by half a spacing so the strips stay well shaped.
+            let phase = if i % 2 == 1 { PI / nodes as f64 } else { 0.0 };
+            Ring {
+                radius,
+                nodes,
+                phase,
+            }
+        })
+        .collect();
+    let mesh = ring_mesh(&rings, z, false)?;
+    let last = mesh.ring_start[rings.len() - 1];
     Ok(AnnulusMesh {
-        rim: (ring_start[last]..ring_start[last] + ring_len[last]).collect(),
-        inner: (0..ring_len[0]).collect(),
-        points,
-        triangles,
+        rim: (last..last + rings[rings.len() - 1].nodes).collect(),
+        inner: (0..rings[0].nodes).collect(),
+        points: mesh.points,
+        triangles: mesh.triangles,
     })
 }

@@ -3,7 +3,11 @@
 use crate::annulus::{annulus, MeshError};
 use crate::forces::damping::{Damper, Law};
 use crate::forces::delingette::{lame, TriangleSprings};
+use crate::lines::add_line;
 use crate::model::{Attachment, Model, NodeKind, Spring};
+use crate::parachute::circular_canopy;
+use crate::rectangle::{rectangle, Edge};
+use coupler::scenario::structure::{Cloth, ClothHold, ClothPlane, Parachute};
 use coupler::scenario::structure::{Damping, Elasticity};
 use coupler::scenario::{RigidSection, StructureSection};
 use std::collections::BTreeSet;
@@ -33,25 +37,22 @@ pub fn build_model(
             a.outer_nodes as usize,
             a.height,
         )?;
-        let n = mesh.points.len() / 3;
-        m.x = mesh.points;
-        m.v = vec![0.0; 3 * n];
-        m.mass = vec![0.0; n];
-        m.kind = vec![NodeKind::Free; n];
-        for &r in &mesh.rim {
-            m.kind[r] = NodeKind::Fixed;
-        }
-        lump_areal_mass(&mut m, &mesh.triangles, a.areal_density);
-        add_fabric(&mut m, &mesh.triangles, a.elasticity())?;
-        for (n, kind) in m.kind.iter().enumerate() {
-            if *kind == NodeKind::Fixed {
-                m.mass[n] = 0.0;
-            }
-        }
-        m.triangles = mesh.triangles;
+        add_surface(
+            &mut m,
+            mesh.points,
+            mesh.triangles,
+            a.fabric.areal_density,
+            a.fabric.elasticity(),
+        )?;
+        hold(&mut m, &mesh.rim);
         m.vent = mesh.inner;
         m.canopy_height = a.height;
-        m.canopy_nodes = n;
+    }
+    if let Some(p) = &s.parachute {
+        add_parachute(&mut m, p, rigid)?;
+    }
+    if let Some(c) = &s.cloth {
+        add_cloth(&mut m, c)?;
     }
     add_network(&mut m, s)?;
     for st in &s.strings {
@@ -82,6 +83,198 @@ pub fn build_model(
     add_dampers(&mut m, s, dt);
     m.prepare();
     Ok(m)
+}
+
+/// The fabric surface: free nodes at `points`, its triangles, lumped masses and
+/// elasticity. It must come first: the surface occupies nodes `0..canopy_nodes`.
+fn add_surface(
+    m: &mut Model,
+    points: Vec<f64>,
+    triangles: Vec<[usize; 3]>,
+    areal_density: f64,
+    e: Elasticity,
+) -> Result<(), MeshError> {
+    let n = points.len() / 3;
+    m.x = points;
+    m.v = vec![0.0; 3 * n];
+    m.mass = vec![0.0; n];
+    m.kind = vec![NodeKind::Free; n];
+    lump_areal_mass(m, &triangles, areal_density);
+    add_fabric(m, &triangles, e)?;
+    m.triangles = triangles;
+    m.canopy_nodes = n;
+    Ok(())
+}
+
+/// Hold `nodes` in place (Dirichlet condition); they carry no mass.
+fn hold(m: &mut Model, nodes: &[usize]) {
+    for &n in nodes {
+        m.kind[n] = NodeKind::Fixed;
+        m.mass[n] = 0.0;
+    }
+}
+
+/// A parachute (seed 000 §4.2): canopy, gore seams, suspension lines to a
+/// confluence that is a payload mass point or a rigid body's attachment point.
+fn add_parachute(
+    m: &mut Model,
+    p: &Parachute,
+    rigid: Option<&RigidSection>,
+) -> Result<(), MeshError> {
+    let g = p.geometry();
+    let radius = 0.5 * g.diameter;
+    // Lines of length L from the skirt meet on the axis this far below it.
+    let drop = (g.line_length.powi(2) - radius * radius).sqrt();
+    let body = p
+        .body
+        .as_ref()
+        .and_then(|name| rigid.and_then(|r| r.bodies.iter().find(|b| &b.name == name)));
+    // Attached to a body, the canopy is placed above it; otherwise at `height`.
+    let confluence = match body {
+        Some(b) => b.position,
+        None => [0.0, 0.0, p.height - drop],
+    };
+    let z = confluence[2] + drop;
+    let mut mesh = circular_canopy(&g, p.resolution as usize, z)?;
+    for point in mesh.points.chunks_exact_mut(3) {
+        point[0] += confluence[0];
+        point[1] += confluence[1];
+    }
+    add_surface(
+        m,
+        mesh.points,
+        mesh.triangles,
+        p.fabric.areal_density,
+        p.fabric.elasticity(),
+    )?;
+    if let Some(k) = p.seam_stiffness {
+        for &(i, j) in &mesh.seams {
+            let rest = distance(&m.x, i, j);
+            m.springs.push(Spring {
+                i,
+                j,
+                k,
+                rest,
+                tension_only: false,
+                eps: 0.0,
+            });
+        }
+    }
+    m.vent = std::mem::take(&mut mesh.vent);
+    m.canopy_height = z;
+    let hub = m.nodes();
+    match body {
+        Some(_) => {
+            push_node(m, confluence, NodeKind::Attached(m.attachments.len()));
+            m.attachments.push(Attachment {
+                node: hub,
+                x0: confluence,
+                ..Default::default()
+            });
+        }
+        None => {
+            push_node(m, confluence, NodeKind::Free);
+            m.mass[hub] = p.payload_mass.unwrap_or(0.0);
+        }
+    }
+    m.points.push(("confluence".into(), hub));
+    for (index, &skirt) in mesh.skirt.iter().enumerate() {
+        let change: f64 = p
+            .line_changes
+            .iter()
+            .filter(|c| c.lines.contains(&(index as u32)))
+            .map(|c| c.rest_length_change)
+            .sum();
+        let mut line = add_line(
+            m,
+            skirt,
+            hub,
+            p.line_segments as usize,
+            g.line_length + change,
+            p.line_axial_stiffness,
+            p.line_density,
+        );
+        for b in p
+            .line_breaks
+            .iter()
+            .filter(|b| b.lines.contains(&(index as u32)))
+        {
+            line.break_time = b.time.or(line.break_time);
+            line.break_tension = b.tension.or(line.break_tension);
+        }
+        m.lines.push(line);
+    }
+    Ok(())
+}
+
+/// A rectangular cloth with the chosen edges or corners held, and optional
+/// bending springs between the far vertices of adjacent triangles (seed 000, end of §2.3).
+fn add_cloth(m: &mut Model, c: &Cloth) -> Result<(), MeshError> {
+    let (nx, ny) = (c.nodes_x as usize, c.nodes_y as usize);
+    let mut mesh = rectangle(c.width, c.depth, nx, ny, [0.0; 3]);
+    for p in mesh.points.chunks_exact_mut(3) {
+        let (u, w) = (p[0], p[1]);
+        let local = match c.plane {
+            ClothPlane::Horizontal => [u, w, 0.0],
+            ClothPlane::Vertical => [u, 0.0, w],
+        };
+        for k in 0..3 {
+            p[k] = c.origin[k] + local[k];
+        }
+    }
+    let held: Vec<usize> = c
+        .fixed
+        .iter()
+        .flat_map(|h| match h {
+            ClothHold::EdgeX0 => mesh.edge(Edge::X0),
+            ClothHold::EdgeX1 => mesh.edge(Edge::X1),
+            ClothHold::EdgeY0 => mesh.edge(Edge::Y0),
+            ClothHold::EdgeY1 => mesh.edge(Edge::Y1),
+            ClothHold::CornerX0Y0 => vec![mesh.node(0, 0)],
+            ClothHold::CornerX1Y0 => vec![mesh.node(nx - 1, 0)],
+            ClothHold::CornerX0Y1 => vec![mesh.node(0, ny - 1)],
+            ClothHold::CornerX1Y1 => vec![mesh.node(nx - 1, ny - 1)],
+        })
+        .collect();
+    let triangles = std::mem::take(&mut mesh.triangles);
+    if let Some(k) = c.bending_stiffness {
+        for (i, j) in bending_pairs(&triangles) {
+            let rest = distance(&mesh.points, i, j);
+            m.springs.push(Spring {
+                i,
+                j,
+                k,
+                rest,
+                tension_only: false,
+                eps: 0.0,
+            });
+        }
+    }
+    add_surface(
+        m,
+        mesh.points,
+        triangles,
+        c.fabric.areal_density,
+        c.fabric.elasticity(),
+    )?;
+    hold(m, &held);
+    m.vent = Vec::new();
+    Ok(())
+}
+
+/// For every edge shared by two triangles, the two vertices not on it.
+fn bending_pairs(triangles: &[[usize; 3]]) -> Vec<(usize, usize)> {
+    let mut far = std::collections::HashMap::new();
+    let mut pairs = Vec::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (i, j, o) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+            if let Some(other) = far.insert((i.min(j), i.max(j)), o) {
+                pairs.push((other, o));
+            }
+        }
+    }
+    pairs
 }
 
 /// Lump a third of every triangle's fabric mass to each vertex.

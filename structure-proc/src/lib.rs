@@ -11,9 +11,12 @@ pub mod annulus;
 pub mod build;
 pub mod forces;
 pub mod integrators;
+pub mod lines;
 pub mod model;
 pub mod output;
+pub mod parachute;
 pub mod rectangle;
+pub mod rings;
 pub mod system;
 
 pub use build::build_model;

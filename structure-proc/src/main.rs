@@ -91,6 +91,7 @@ fn run() -> Result<(), Error> {
                     pressure: pressure.as_deref().unwrap_or(&[]),
                 };
                 m.dt = step.dt / step.substeps as f64;
+                m.time = step.time;
                 let mut failure = None;
                 for k in 0..step.substeps {
                     if let Err(e) = m.step(integrator.as_mut(), &loads) {

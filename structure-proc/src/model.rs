@@ -53,6 +53,10 @@ pub struct Model {
     /// Height of the undeformed canopy plane [m].
     pub canopy_height: f64,
     pub attachments: Vec<Attachment>,
+    /// Suspension lines of a parachute, for uneven lengths and breaks.
+    pub lines: Vec<crate::lines::Line>,
+    /// Simulated time [s], advanced by [`Model::step`].
+    pub time: f64,
     /// Named points of a hand-built network, with their node, for the monitors.
     pub points: Vec<(String, usize)>,
     pub gravity: [f64; 3],
@@ -118,6 +122,7 @@ impl Model {
             a.tau += self.dt;
         }
         self.place_attached();
+        self.time += self.dt;
         Ok(())
     }
 

@@ -32,12 +32,13 @@ impl Output {
             )?;
         }
         if let Some(series) = &mut self.strings {
-            let base = m.canopy_nodes;
+            // All nodes: lines start on the canopy's skirt.
+            let base = 0;
             let conn: Vec<usize> = m
                 .springs
                 .iter()
                 .filter(|s| s.tension_only)
-                .flat_map(|s| [s.i - base, s.j - base])
+                .flat_map(|s| [s.i, s.j])
                 .collect();
             series.write(
                 index,

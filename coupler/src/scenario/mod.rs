@@ -5,6 +5,7 @@ mod check;
 mod error;
 pub mod fluid;
 pub mod integrator;
+pub mod parachute;
 pub mod rigid;
 mod spans;
 pub mod structure;

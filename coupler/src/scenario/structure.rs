@@ -2,6 +2,9 @@
 
 use super::check::Checker;
 pub use super::integrator::{HhtParams, Integrator, NewmarkParams, NewtonParams, Scheme};
+pub use super::parachute::{
+    Cloth, ClothHold, ClothPlane, LineBreak, LineChange, Parachute, ParachuteModel,
+};
 use super::rigid::RigidSection;
 use serde::{Deserialize, Serialize};
 
@@ -37,6 +40,12 @@ pub struct StructureSection {
     /// The annulus canopy of seed 003 §2.2 / §3.2, outer rim fixed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub annulus: Option<Annulus>,
+    /// A parachute canopy with suspension lines (seed 000 §4.2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parachute: Option<Parachute>,
+    /// A rectangular cloth.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cloth: Option<Cloth>,
     /// Strings from a fixed anchor to an attachment point on a rigid body.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub strings: Vec<StringSpec>,
@@ -104,6 +113,20 @@ pub struct Annulus {
     /// Nodes on the outer ring; inner rings get proportionally fewer.
     #[serde(default = "default_outer_nodes")]
     pub outer_nodes: u32,
+    /// The fabric: mass per area and elasticity.
+    pub fabric: Fabric,
+    /// Height of the flat canopy plane [m].
+    #[serde(default)]
+    pub height: f64,
+}
+
+/// `fabric = { … }` of a generated surface: mass per area and exactly one of
+/// three elasticities.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fabric {
+    /// Mass per area [kg/m²], lumped to the nodes.
+    pub areal_density: f64,
     /// Uniform spring stiffness k [N/m] (seed 003 §3.2) …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stiffness: Option<f64>,
@@ -113,14 +136,9 @@ pub struct Annulus {
     /// … or a Delingette membrane (seed 000 eqs. 2.29–2.37).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub membrane: Option<Membrane>,
-    /// Fabric mass per area [kg/m²], lumped to the nodes.
-    pub areal_density: f64,
-    /// Height of the flat canopy plane [m].
-    #[serde(default)]
-    pub height: f64,
 }
 
-impl Annulus {
+impl Fabric {
     /// The one elasticity given; `check` has made sure there is exactly one.
     pub fn elasticity(&self) -> Elasticity {
         match (self.stiffness, self.fibre, self.membrane) {
@@ -129,6 +147,18 @@ impl Annulus {
             (_, _, Some(m)) => Elasticity::Membrane(m),
             _ => Elasticity::Uniform(f64::NAN),
         }
+    }
+
+    pub fn check(&self, c: &mut Checker) {
+        c.within("fabric", None, |c| {
+            c.positive(&["areal_density"], self.areal_density, "kg/m²");
+            check_elasticity(
+                c,
+                self.stiffness,
+                self.fibre.as_ref(),
+                self.membrane.as_ref(),
+            );
+        });
     }
 }
 
@@ -227,8 +257,18 @@ impl StructureSection {
     pub fn check(&self, c: &mut Checker, rigid: Option<&RigidSection>) {
         c.within("structure", None, |c| {
             c.finite3(&["gravity"], self.gravity);
-            if self.annulus.is_none() && self.strings.is_empty() && self.points.is_empty() {
-                c.problem(&[], "has nothing to simulate: give [structure.annulus], [[structure.strings]] or [[structure.points]]".into());
+            let surfaces = self.annulus.is_some() as u8 + self.parachute.is_some() as u8 + self.cloth.is_some() as u8;
+            if surfaces == 0 && self.strings.is_empty() && self.points.is_empty() {
+                c.problem(&[], "has nothing to simulate: give [structure.annulus], [structure.parachute], [structure.cloth], [[structure.strings]] or [[structure.points]]".into());
+            }
+            if surfaces > 1 {
+                c.problem(&["cloth"], "give at most one of [structure.annulus], [structure.parachute] and [structure.cloth]".into());
+            }
+            if let Some(p) = &self.parachute {
+                p.check(c, |b| body_problem(rigid, b));
+            }
+            if let Some(cl) = &self.cloth {
+                cl.check(c);
             }
             super::integrator::check_params(c, &self.newmark, &self.hht, &self.newton);
             match (self.damping, self.damping_coefficient) {
@@ -256,8 +296,7 @@ impl StructureSection {
                     if a.outer_nodes < 6 {
                         c.problem(&["outer_nodes"], format!("outer_nodes = {} must be at least 6", a.outer_nodes));
                     }
-                    check_elasticity(c, a.stiffness, a.fibre.as_ref(), a.membrane.as_ref());
-                    c.positive(&["areal_density"], a.areal_density, "kg/m²");
+                    a.fabric.check(c);
                     c.finite(&["height"], a.height);
                 });
             }
@@ -267,13 +306,8 @@ impl StructureSection {
                     c.positive(&["stiffness"], s.stiffness, "N/m");
                     c.positive(&["rest_length"], s.rest_length, "m");
                     c.finite_nonneg(&["compressive_tolerance"], s.compressive_tolerance);
-                    match rigid {
-                        None => c.problem(&["body"], format!(
-                            "string attaches to body `{}` but the scene has no rigid participant", s.body)),
-                        Some(r) if !r.bodies.iter().any(|b| b.name == s.body) => c.problem(&["body"], format!(
-                            "no rigid body is named `{}` (bodies: {})", s.body,
-                            r.bodies.iter().map(|b| b.name.as_str()).collect::<Vec<_>>().join(", "))),
-                        Some(_) => {}
+                    if let Some(msg) = body_problem(rigid, &s.body) {
+                        c.problem(&["body"], msg);
                     }
                 });
             }
@@ -315,5 +349,23 @@ impl StructureSection {
                 }
             });
         }
+    }
+}
+
+/// Why `body` is not a rigid body of the scene, if it is not.
+fn body_problem(rigid: Option<&RigidSection>, body: &str) -> Option<String> {
+    match rigid {
+        None => Some(format!(
+            "attaches to body `{body}` but the scene has no rigid participant"
+        )),
+        Some(r) if !r.bodies.iter().any(|b| b.name == body) => Some(format!(
+            "no rigid body is named `{body}` (bodies: {})",
+            r.bodies
+                .iter()
+                .map(|b| b.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+        Some(_) => None,
     }
 }

@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 pub use coupler::scenario::structure::{
-    Annulus, Damping, Elasticity, Fibre, Integrator, Membrane, NewtonParams, Scheme,
+    Annulus, Damping, Elasticity, Fabric, Fibre, Integrator, Membrane, NewtonParams, Scheme,
     StructureSection,
 };
 use structure_proc::forces::damping::Law;
@@ -49,12 +49,16 @@ pub fn canopy(e: Elasticity, gravity: [f64; 3], damping: Option<Law>) -> Model {
             outer_radius: 1.0,
             rings: 12,
             outer_nodes: 107,
-            stiffness,
-            fibre,
-            membrane,
-            areal_density: 1.0,
+            fabric: Fabric {
+                areal_density: 1.0,
+                stiffness,
+                fibre,
+                membrane,
+            },
             height: 0.0,
         }),
+        parachute: None,
+        cloth: None,
         strings: vec![],
         points: vec![],
         springs: vec![],

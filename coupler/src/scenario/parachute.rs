@@ -1,0 +1,332 @@
+//! `[structure.parachute]` and `[structure.cloth]`: the generated structures of
+//! seed 000 §2.3, §4.2 (parachutes with suspension lines) and §4.3 (cloth).
+
+use super::check::Checker;
+use super::structure::Fabric;
+use serde::{Deserialize, Serialize};
+
+/// Feet and inches to metres (exact, international foot of 1959).
+pub const FOOT: f64 = 0.3048;
+pub const INCH: f64 = 0.0254;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ParachuteModel {
+    /// C-9 personnel parachute: 28 ft flat circular, 28 gores and lines, no vent
+    /// (seed 000 §4.2.2), 7 m lines (§4.2.3).
+    C9,
+    /// T-10: 35 ft flat circular, 30 gores and lines, 20-inch vent.
+    T10,
+    /// G-11 cargo parachute: 100 ft flat circular, 120 gores and lines.
+    G11,
+    /// Intruder (seed 000 table 5.2 names it, gives no geometry): assumed a small
+    /// 16-gore flat circular canopy of 4.5 m with a 0.3 m vent.
+    Intruder,
+    /// Everything from the keys below.
+    Custom,
+}
+
+/// The flat circular canopy a model stands for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CanopyGeometry {
+    /// Nominal (flat) diameter D₀ [m].
+    pub diameter: f64,
+    pub gores: u32,
+    /// Vent diameter [m]; 0 for none.
+    pub vent: f64,
+    /// Suspension-line length from skirt to confluence [m].
+    pub line_length: f64,
+}
+
+impl ParachuteModel {
+    /// The preset, None for `custom`. Where the seeds give no line length we assume
+    /// 0.82·D₀, the C-9's ratio (7 m / 8.53 m).
+    pub fn geometry(self) -> Option<CanopyGeometry> {
+        let g = |d: f64, gores, vent, lines: Option<f64>| CanopyGeometry {
+            diameter: d,
+            gores,
+            vent,
+            line_length: lines.unwrap_or(0.82 * d),
+        };
+        match self {
+            ParachuteModel::C9 => Some(g(28.0 * FOOT, 28, 0.0, Some(7.0))),
+            ParachuteModel::T10 => Some(g(35.0 * FOOT, 30, 20.0 * INCH, None)),
+            ParachuteModel::G11 => Some(g(100.0 * FOOT, 120, 0.0, None)),
+            ParachuteModel::Intruder => Some(g(4.5, 16, 0.3, None)),
+            ParachuteModel::Custom => None,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Parachute {
+    pub model: ParachuteModel,
+    /// Overrides of the model's geometry (all four needed for `custom`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nominal_diameter: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gores: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vent_diameter: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_length: Option<f64>,
+    /// Node rings from the vent (or centre) to the skirt: the mesh resolution.
+    #[serde(default = "default_resolution")]
+    pub resolution: u32,
+    /// Height of the flat canopy [m].
+    #[serde(default)]
+    pub height: f64,
+    pub fabric: Fabric,
+    /// Extra stiffness [N/m] of the gore seams (the radial edges between gores).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seam_stiffness: Option<f64>,
+    /// Axial stiffness E·A of a suspension line [N].
+    pub line_axial_stiffness: f64,
+    /// Line mass per length [kg/m].
+    pub line_density: f64,
+    /// Mass points per line, confluence excluded.
+    #[serde(default = "default_segments")]
+    pub line_segments: u32,
+    /// A payload mass point at the confluence [kg] …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub payload_mass: Option<f64>,
+    /// … or the rigid body the confluence is attached to.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body: Option<String>,
+    /// Uneven lines (seed 000 §4.2.3).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub line_changes: Vec<LineChange>,
+    /// Breaking lines (seed 000 §4.2.3).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub line_breaks: Vec<LineBreak>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LineChange {
+    /// Line indices, 0-based, counter-clockwise from +x.
+    pub lines: Vec<u32>,
+    /// Change of rest length [m] (negative: shorter).
+    pub rest_length_change: f64,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LineBreak {
+    pub lines: Vec<u32>,
+    /// Break at this time [s] …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
+    /// … or when the tension exceeds this [N].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tension: Option<f64>,
+}
+
+fn default_resolution() -> u32 {
+    8
+}
+fn default_segments() -> u32 {
+    8
+}
+
+impl Parachute {
+    /// The model's geometry with the overrides applied (`check` ensures a `custom` one is complete).
+    pub fn geometry(&self) -> CanopyGeometry {
+        let base = self.model.geometry().unwrap_or(CanopyGeometry {
+            diameter: f64::NAN,
+            gores: 0,
+            vent: 0.0,
+            line_length: f64::NAN,
+        });
+        CanopyGeometry {
+            diameter: self.nominal_diameter.unwrap_or(base.diameter),
+            gores: self.gores.unwrap_or(base.gores),
+            vent: self.vent_diameter.unwrap_or(base.vent),
+            line_length: self.line_length.unwrap_or(base.line_length),
+        }
+    }
+
+    pub fn check(&self, c: &mut Checker, has_body: impl Fn(&str) -> Option<String>) {
+        c.within("parachute", None, |c| {
+            if self.model == ParachuteModel::Custom
+                && (self.nominal_diameter.is_none()
+                    || self.gores.is_none()
+                    || self.line_length.is_none())
+            {
+                c.problem(
+                    &["model"],
+                    "model = \"custom\" needs nominal_diameter, gores and line_length".into(),
+                );
+            }
+            let g = self.geometry();
+            c.positive(&["nominal_diameter"], g.diameter, "m");
+            if !(3..=1000).contains(&g.gores) {
+                c.problem(
+                    &["gores"],
+                    format!("gores = {} must lie in 3..=1000", g.gores),
+                );
+            }
+            c.finite_nonneg(&["vent_diameter"], g.vent);
+            if g.vent >= 0.5 * g.diameter {
+                c.problem(
+                    &["vent_diameter"],
+                    format!(
+                        "vent_diameter = {} m must be under half the diameter",
+                        g.vent
+                    ),
+                );
+            }
+            c.positive(&["line_length"], g.line_length, "m");
+            if g.line_length <= 0.5 * g.diameter {
+                c.problem(
+                    &["line_length"],
+                    format!(
+                        "line_length = {} m cannot reach the axis from a skirt of radius {} m",
+                        g.line_length,
+                        0.5 * g.diameter
+                    ),
+                );
+            }
+            if !(2..=200).contains(&self.resolution) {
+                c.problem(
+                    &["resolution"],
+                    format!("resolution = {} must lie in 2..=200", self.resolution),
+                );
+            }
+            c.finite(&["height"], self.height);
+            self.fabric.check(c);
+            if let Some(k) = self.seam_stiffness {
+                c.positive(&["seam_stiffness"], k, "N/m");
+            }
+            c.positive(&["line_axial_stiffness"], self.line_axial_stiffness, "N");
+            c.positive(&["line_density"], self.line_density, "kg/m");
+            if !(1..=1000).contains(&self.line_segments) {
+                c.problem(
+                    &["line_segments"],
+                    format!(
+                        "line_segments = {} must lie in 1..=1000",
+                        self.line_segments
+                    ),
+                );
+            }
+            match (&self.payload_mass, &self.body) {
+                (Some(m), None) => c.positive(&["payload_mass"], *m, "kg"),
+                (None, Some(b)) => {
+                    if let Some(msg) = has_body(b) {
+                        c.problem(&["body"], msg);
+                    }
+                }
+                _ => c.problem(
+                    &["payload_mass"],
+                    "give exactly one of payload_mass (a mass point) or body (a rigid body)".into(),
+                ),
+            }
+            let check_lines = |c: &mut Checker, lines: &[u32]| {
+                if let Some(l) = lines.iter().find(|&&l| l >= g.gores) {
+                    c.problem(
+                        &["lines"],
+                        format!(
+                            "line {l} does not exist: there are {} lines (0 to {})",
+                            g.gores,
+                            g.gores.saturating_sub(1)
+                        ),
+                    );
+                }
+            };
+            for (i, ch) in self.line_changes.iter().enumerate() {
+                c.within("line_changes", Some(i), |c| {
+                    check_lines(c, &ch.lines);
+                    c.finite(&["rest_length_change"], ch.rest_length_change);
+                    if ch.rest_length_change <= -g.line_length {
+                        c.problem(
+                            &["rest_length_change"],
+                            "would leave the line no length".into(),
+                        );
+                    }
+                });
+            }
+            for (i, b) in self.line_breaks.iter().enumerate() {
+                c.within("line_breaks", Some(i), |c| {
+                    check_lines(c, &b.lines);
+                    match (b.time, b.tension) {
+                        (Some(t), None) => c.finite_nonneg(&["time"], t),
+                        (None, Some(t)) => c.positive(&["tension"], t, "N"),
+                        _ => c.problem(
+                            &["time"],
+                            "give exactly one of time (s) or tension (N)".into(),
+                        ),
+                    }
+                });
+            }
+        });
+    }
+}
+
+/// Which part of a rectangular cloth is held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ClothHold {
+    /// The edge x = 0, x = width, y = 0 or y = depth.
+    EdgeX0,
+    EdgeX1,
+    EdgeY0,
+    EdgeY1,
+    /// One corner node.
+    CornerX0Y0,
+    CornerX1Y0,
+    CornerX0Y1,
+    CornerX1Y1,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ClothPlane {
+    /// In the plane z = origin.z.
+    #[default]
+    Horizontal,
+    /// In the plane y = origin.y, depth along +z: hangs under gravity.
+    Vertical,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cloth {
+    /// Size along x [m] and along the second axis [m].
+    pub width: f64,
+    pub depth: f64,
+    /// Nodes along each side: the mesh resolution.
+    pub nodes_x: u32,
+    pub nodes_y: u32,
+    /// Corner (x = 0, y = 0) [m].
+    #[serde(default)]
+    pub origin: [f64; 3],
+    #[serde(default)]
+    pub plane: ClothPlane,
+    pub fabric: Fabric,
+    /// Springs [N/m] between the far vertices of adjacent triangles (seed 000, end of §2.3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bending_stiffness: Option<f64>,
+    /// What is held in place.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fixed: Vec<ClothHold>,
+}
+
+impl Cloth {
+    pub fn check(&self, c: &mut Checker) {
+        c.within("cloth", None, |c| {
+            c.positive(&["width"], self.width, "m");
+            c.positive(&["depth"], self.depth, "m");
+            for (key, n) in [("nodes_x", self.nodes_x), ("nodes_y", self.nodes_y)] {
+                if !(2..=4000).contains(&n) {
+                    c.problem(&[key], format!("{key} = {n} must lie in 2..=4000"));
+                }
+            }
+            c.finite3(&["origin"], self.origin);
+            self.fabric.check(c);
+            if let Some(k) = self.bending_stiffness {
+                c.positive(&["bending_stiffness"], k, "N/m");
+            }
+        });
+    }
+}
