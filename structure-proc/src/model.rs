@@ -41,7 +41,9 @@ pub struct Model {
     pub springs: Vec<Spring>,
     /// Delingette's triangular springs of a membrane fabric.
     pub membrane: Vec<TriangleSprings>,
-    /// Dampers along springs and triangle edges, and the law they follow (None: undamped).
+    /// Dampers along springs and triangle edges, and the law they follow (None:
+    /// undamped). When damped, `dampers[i]` belongs to `springs[i]`; the membrane
+    /// edges' dampers follow (a broken line silences both).
     pub dampers: Vec<Damper>,
     pub damping: Option<Law>,
     /// Canopy triangles (nodes `0..canopy_nodes`), counter-clockwise seen along +n.
