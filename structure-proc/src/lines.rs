@@ -85,14 +85,7 @@ impl Model {
             let tension = line
                 .springs
                 .iter()
-                .map(|&s| {
-                    let sp = &self.springs[s];
-                    let l = (0..3)
-                        .map(|c| (self.x[3 * sp.j + c] - self.x[3 * sp.i + c]).powi(2))
-                        .sum::<f64>()
-                        .sqrt();
-                    sp.k * sp.stretch(l)
-                })
+                .map(|&s| self.springs[s].tension(&self.x))
                 .fold(0.0, f64::max);
             let due = line.break_time.is_some_and(|t| self.time >= t)
                 || line.break_tension.is_some_and(|t| tension > t);

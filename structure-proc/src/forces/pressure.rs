@@ -17,9 +17,8 @@ pub fn add_pressure(triangles: &[[usize; 3]], jump: &[f64], x: &[f64], f: &mut [
         if p == 0.0 {
             continue;
         }
-        let p0 = point(x, tri[0]);
-        let n2 = (point(x, tri[1]) - p0).cross(&(point(x, tri[2]) - p0));
-        let share = n2 * (p / 6.0);
+        let n2 = area_normal2(x, tri);
+        let share = nalgebra::Vector3::from(n2) * (p / 6.0);
         for &node in tri {
             add_to(f, node, &share);
         }

@@ -46,6 +46,11 @@ impl Spring {
         }
     }
 
+    /// Tension k δ [N] at `x`, δ the active stretch.
+    pub fn tension(&self, x: &[f64]) -> f64 {
+        self.k * self.stretch((point(x, self.j) - point(x, self.i)).norm())
+    }
+
     /// Elastic energy ½ k δ², δ the active stretch.
     pub fn energy(&self, x: &[f64]) -> f64 {
         let l = (point(x, self.j) - point(x, self.i)).norm();

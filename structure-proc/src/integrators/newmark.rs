@@ -64,9 +64,8 @@ impl Integrator for Newmark {
             w: 1.0 + alpha,
             extra: (alpha != 0.0).then_some(&extra[..]),
         };
-        // The previous acceleration is the initial guess.
-        let mut a_new = self.a.clone();
-        self.newton.solve(sys, h, &target, &mut a_new)?;
+        // a_n, already folded into x̂ and v̂, is the initial guess for a_{n+1}.
+        self.newton.solve(sys, h, &target, &mut self.a)?;
         x.copy_from_slice(&self.newton.x);
         v.copy_from_slice(&self.newton.v);
         // Held nodes: the same weights applied to the force they feel.
@@ -76,7 +75,6 @@ impl Integrator for Newmark {
                 reaction[d] = h * ((1.0 - gamma) * f[d] + gamma * f_end);
             }
         }
-        self.a = a_new;
         Ok(())
     }
 
