@@ -1,5 +1,6 @@
 //! The spring-mass model: nodes, springs, canopy triangles, attachments.
 
+use crate::forces::assembly::{Assembly, Scratch};
 use crate::forces::damping::{Damper, Law};
 use crate::forces::delingette::TriangleSprings;
 pub use crate::forces::spring::Spring;
@@ -68,6 +69,11 @@ pub struct Model {
     pub inv_mass: Vec<f64>,
     /// Stiffness between node pairs, for Kang's method; set by [`Model::prepare`].
     pub couplings: Vec<(usize, usize, f64)>,
+    /// Which slots each node sums in the force, for the elastic and viscous
+    /// elements and for the pressure triangles; set by [`Model::prepare`].
+    pub assembly: (Assembly, Assembly),
+    /// The slot buffer of the force evaluations, reused from step to step.
+    pub scratch: Scratch,
 }
 
 impl Model {
@@ -88,7 +94,7 @@ impl Model {
     }
 
     /// Derive what the integrators read from the nodes and elements: the
-    /// inverse masses and the stiffness couplings. Call after building or
+    /// inverse masses, the stiffness couplings and the force assembly. Call after building or
     /// changing nodes and elements.
     pub fn prepare(&mut self) {
         self.inv_mass = (0..self.nodes())
@@ -101,6 +107,7 @@ impl Model {
         for t in &self.membrane {
             self.couplings.extend(t.edge_stiffness());
         }
+        self.assembly = crate::forces::assembly(self);
     }
 
     /// Advance by one step of `self.dt` with `integrator`: attached nodes follow

@@ -2,22 +2,29 @@
 //! backward Euler: at rest the held corners carry the cloth's whole weight
 //! (static equilibrium: Σ F = 0 over the free nodes, so the reactions balance gravity).
 
+use coupler::scenario::structure::StructureSection;
 use coupler::Scenario;
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator, NodeKind};
 
-#[test]
-fn hanging_cloth_settles_with_its_weight_on_the_corners() {
+/// The structure of `scenarios/cloth-hanging.toml` on n × n nodes.
+fn cloth_scene(n: u32) -> StructureSection {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../scenarios/cloth-hanging.toml"
     );
-    let mut s = Scenario::load(std::path::Path::new(path)).unwrap();
-    let section = s.structure.as_mut().unwrap();
-    // A coarser cloth, same physics, so the test stays quick.
+    let s = Scenario::load(std::path::Path::new(path)).unwrap();
+    let mut section = s.structure.unwrap();
     let cloth = section.cloth.as_mut().unwrap();
-    cloth.nodes_x = 13;
-    cloth.nodes_y = 13;
+    cloth.nodes_x = n;
+    cloth.nodes_y = n;
+    section
+}
+
+#[test]
+fn hanging_cloth_settles_with_its_weight_on_the_corners() {
+    // A coarser cloth, same physics, so the test stays quick.
+    let section = &cloth_scene(13);
     let dt = 4e-3;
     let mut m = build_model(section, None, dt).unwrap();
     let mut stepper = integrator(section.scheme());
@@ -47,4 +54,43 @@ fn hanging_cloth_settles_with_its_weight_on_the_corners() {
         .map(|n| m.x[3 * n + 2])
         .fold(f64::INFINITY, f64::min);
     assert!(lowest < 0.0, "lowest node at {lowest} m");
+}
+
+/// The parallel force assembly (`forces/assembly.rs`) on a cloth large enough
+/// to be split between threads: the internal forces still cancel in sum
+/// (Newton's third law, so linear momentum is conserved), and the result is
+/// the same to the last bit on one thread and on two.
+#[test]
+fn parallel_force_is_balanced_and_independent_of_the_thread_count() {
+    let section = &cloth_scene(60);
+    let mut m = build_model(section, None, 2e-3).unwrap();
+    assert!(m.springs.len() + 3 * m.membrane.len() > 4 * structure_proc::forces::assembly::GRAIN);
+    let mut stepper = integrator(section.scheme());
+    for _ in 0..5 {
+        m.step(stepper.as_mut(), &Loads::default()).unwrap();
+    }
+    m.gravity = [0.0; 3];
+    let force_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut f = vec![0.0; m.x.len()];
+        pool.install(|| m.force(&Loads::default(), &mut f));
+        f
+    };
+    let (one, two) = (force_on(1), force_on(2));
+    assert!(one
+        .iter()
+        .zip(&two)
+        .all(|(a, b)| a.to_bits() == b.to_bits()));
+    let largest = one.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    assert!(largest > 0.0, "the cloth is deformed");
+    for c in 0..3 {
+        let sum: f64 = one.iter().skip(c).step_by(3).sum();
+        assert!(
+            sum.abs() < 1e-12 * largest * m.nodes() as f64,
+            "Σ F_{c} = {sum} N, largest {largest} N"
+        );
+    }
 }

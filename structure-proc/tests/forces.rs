@@ -82,6 +82,7 @@ fn every_force_term_is_minus_the_gradient_of_its_energy() {
     // Gravity alone.
     let mut m = canopy(membrane(1e6, 0.3, 1e-4), [0.3, -1.0, -9.81], None);
     m.membrane.clear();
+    m.prepare();
     deform(&mut m);
     assert_force_is_minus_gradient(&m, |m, x| gravity_energy(m, x));
     // Strings: tension only beyond the compressive tolerance (seed 003 eq. 3),
@@ -139,6 +140,7 @@ fn jacobian_product_matches_finite_differences_of_the_force() {
             })
             .collect();
         m.damping = Some(Law::Axial);
+        m.prepare();
         m
     };
     for mut m in [canopy(uniform(100.0), [0.0; 3], Some(Law::Axial)), sheet] {

@@ -116,6 +116,7 @@ fn symplectic_schemes_keep_the_energy_and_explicit_euler_gains_it() {
     let run = |scheme: Scheme| {
         let mut m = oscillator();
         m.dampers.clear();
+        m.prepare();
         m.dt = 0.01;
         let mut integrator = structure_proc::integrator(scheme);
         let mut worst: f64 = 0.0;

@@ -6,7 +6,7 @@
 //!   with it linear and angular momentum, is left alone.
 //! Neither has an energy; both dissipate.
 
-use super::spring::{add_to, point};
+use super::spring::point;
 use nalgebra::Vector3;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,29 +36,29 @@ impl Damper {
         (l > self.slack_below && l > 0.0).then(|| d / l)
     }
 
-    /// Adds the damping force to both ends.
+    /// The damping force on node i; node j gets its opposite.
     #[inline]
-    pub fn add_force(&self, law: Law, x: &[f64], v: &[f64], f: &mut [f64]) {
-        let Some(e) = self.geometry(x) else { return };
+    pub fn force(&self, law: Law, x: &[f64], v: &[f64]) -> Vector3<f64> {
+        let Some(e) = self.geometry(x) else {
+            return Vector3::zeros();
+        };
         let dv = point(v, self.j) - point(v, self.i);
-        let fd = match law {
+        match law {
             Law::RelativeVelocity => dv * self.c,
             Law::Axial => e * (self.c * e.dot(&dv)),
-        };
-        add_to(f, self.i, &fd);
-        add_to(f, self.j, &-fd);
+        }
     }
 
-    /// Adds s·C·p, C = −∂F/∂v (symmetric, positive semi-definite).
+    /// −(s·C·p) at node i, C = −∂F/∂v (symmetric, positive semi-definite); node j gets its opposite.
     #[inline]
-    pub fn add_damping_product(&self, law: Law, x: &[f64], s: f64, p: &[f64], out: &mut [f64]) {
-        let Some(e) = self.geometry(x) else { return };
+    pub fn damping_product(&self, law: Law, x: &[f64], s: f64, p: &[f64]) -> Vector3<f64> {
+        let Some(e) = self.geometry(x) else {
+            return Vector3::zeros();
+        };
         let q = point(p, self.j) - point(p, self.i);
-        let g = match law {
+        -match law {
             Law::RelativeVelocity => q * (self.c * s),
             Law::Axial => e * (self.c * s * e.dot(&q)),
-        };
-        add_to(out, self.j, &g);
-        add_to(out, self.i, &-g);
+        }
     }
 }

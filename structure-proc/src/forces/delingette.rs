@@ -5,7 +5,7 @@
 //! energy of an isotropic membrane of Young's modulus E, Poisson ratio ν and
 //! thickness t on that triangle, so the mesh stretches as the fabric would.
 
-use super::spring::{add_to, length_hessian, point};
+use super::spring::{length_hessian, point};
 use nalgebra::{Matrix3, Vector3};
 
 /// Edge e joins vertices `EDGES[e].0` and `EDGES[e].1` and lies opposite vertex `(e + 2) % 3`.
@@ -85,34 +85,34 @@ impl TriangleSprings {
         0.5 * dl.dot(&(self.q * dl))
     }
 
-    /// −∂W/∂x (eq. 2.33): every edge pulls its ends with the tension
+    /// −∂W/∂x (eq. 2.33) per edge e, on its first vertex `EDGES[e].0` (the
+    /// second gets the opposite): every edge pulls its ends with the tension
     /// T_e = ∂W/∂dl_e = k_e dl_e + Σ γ dl_f, as in eqs. (2.35)–(2.36).
     #[inline]
-    pub fn add_force(&self, x: &[f64], f: &mut [f64]) {
+    pub fn edge_forces(&self, x: &[f64]) -> [Vector3<f64>; 3] {
         let (d, l, dl) = self.edges(x);
         let t = self.q * dl;
-        for (e, &(a, b)) in EDGES.iter().enumerate() {
-            let fe = d[e] * (t[e] / l[e]);
-            add_to(f, self.nodes[a], &fe);
-            add_to(f, self.nodes[b], &-fe);
-        }
+        [0, 1, 2].map(|e| d[e] * (t[e] / l[e]))
     }
 
-    /// Adds s·H·p, H = ∂²W/∂x² = Σ Q_ef ∇l_e ∇l_fᵀ + Σ T_e ∇²l_e, the second
-    /// sum kept only for edges under tension so that H stays positive semi-definite.
+    /// −(s·H·p) per edge, on its first vertex (the second gets the opposite),
+    /// H = ∂²W/∂x² = Σ Q_ef ∇l_e ∇l_fᵀ + Σ T_e ∇²l_e, the second sum kept only
+    /// for edges under tension so that H stays positive semi-definite.
     #[inline]
-    pub fn add_stiffness_product(&self, x: &[f64], s: f64, p: &[f64], out: &mut [f64]) {
+    pub fn stiffness_product(&self, x: &[f64], s: f64, p: &[f64]) -> [Vector3<f64>; 3] {
         let (d, l, dl) = self.edges(x);
         let t = self.q * dl;
         let e = [d[0] / l[0], d[1] / l[1], d[2] / l[2]];
         let q = EDGES.map(|(a, b)| point(p, self.nodes[b]) - point(p, self.nodes[a]));
         let rate = Vector3::new(e[0].dot(&q[0]), e[1].dot(&q[1]), e[2].dot(&q[2]));
         let material = self.q * rate;
-        for (k, &(a, b)) in EDGES.iter().enumerate() {
-            let g = (e[k] * material[k] + length_hessian(&e[k], l[k]) * q[k] * t[k].max(0.0)) * s;
-            add_to(out, self.nodes[b], &g);
-            add_to(out, self.nodes[a], &-g);
-        }
+        [0, 1, 2]
+            .map(|k| -(e[k] * material[k] + length_hessian(&e[k], l[k]) * q[k] * t[k].max(0.0)) * s)
+    }
+
+    /// The ends of edge e.
+    pub fn edge(&self, e: usize) -> (usize, usize) {
+        (self.nodes[EDGES[e].0], self.nodes[EDGES[e].1])
     }
 
     /// The tensile stiffness k_e of each edge, summed over triangles into k̃ of eq. (2.37).

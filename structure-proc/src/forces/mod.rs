@@ -3,6 +3,7 @@
 //! springs (`delingette.rs`), viscous damping (`damping.rs`), the fluid's
 //! pressure jump (`pressure.rs`), and gravity here.
 
+pub mod assembly;
 pub mod damping;
 pub mod delingette;
 pub mod pressure;
@@ -10,6 +11,7 @@ pub mod spring;
 
 use crate::model::Model;
 use crate::system::System;
+use assembly::{fill, Assembly, Slot};
 pub use pressure::area_normal2;
 
 /// Loads from other processes, held for one step and read in place.
@@ -38,27 +40,111 @@ pub fn elastic_energy(m: &Model, x: &[f64]) -> f64 {
         + m.membrane.iter().map(|t| t.energy(x)).sum::<f64>()
 }
 
+/// Where each family of elements keeps its slots: springs (one each),
+/// membrane edges (three per triangle), dampers (one each). Ends at `end`.
+/// The pressure triangles have an assembly of their own (one slot per
+/// triangle, shared by its three vertices), summed only when a fluid sends a load.
+struct Layout {
+    membrane: usize,
+    dampers: usize,
+    end: usize,
+}
+
+impl Layout {
+    fn of(m: &Model) -> Layout {
+        let membrane = m.springs.len();
+        let dampers = membrane + 3 * m.membrane.len();
+        Layout {
+            membrane,
+            dampers,
+            end: dampers + m.dampers.len(),
+        }
+    }
+}
+
+/// Which slots every node sums: the elastic and viscous elements, then the
+/// pressure triangles. Built by [`Model::prepare`].
+pub fn assembly(m: &Model) -> (Assembly, Assembly) {
+    let at = Layout::of(m);
+    let pair =
+        |base: usize, k: usize, i: usize, j: usize| [(i, base + k, false), (j, base + k, true)];
+    let elements = Assembly::new(m.nodes(), at.end, || {
+        let springs = m
+            .springs
+            .iter()
+            .enumerate()
+            .flat_map(move |(k, s)| pair(0, k, s.i, s.j));
+        let membrane = m.membrane.iter().enumerate().flat_map(move |(k, t)| {
+            (0..3).flat_map(move |e| {
+                let (a, b) = t.edge(e);
+                pair(at.membrane, 3 * k + e, a, b)
+            })
+        });
+        let dampers = m
+            .dampers
+            .iter()
+            .enumerate()
+            .flat_map(move |(k, d)| pair(at.dampers, k, d.i, d.j));
+        springs.chain(membrane).chain(dampers)
+    });
+    let pressure = Assembly::new(m.nodes(), m.triangles.len(), || {
+        m.triangles
+            .iter()
+            .enumerate()
+            .flat_map(|(k, tri)| tri.map(|n| (n, k, false)))
+    });
+    (elements, pressure)
+}
+
+/// Splits the slot buffer into the families of `at`.
+fn families<'s>(
+    slots: &'s mut [Slot],
+    at: &Layout,
+) -> (&'s mut [Slot], &'s mut [Slot], &'s mut [Slot]) {
+    let (springs, rest) = slots.split_at_mut(at.membrane);
+    let (membrane, dampers) = rest.split_at_mut(at.dampers - at.membrane);
+    (springs, membrane, dampers)
+}
+
 /// Total force at positions `x`, velocities `v`; `f` is overwritten. Only free
 /// nodes are accelerated, but every node gets its force: on an attached node it is
-/// what the structure exerts on the rigid body.
+/// what the structure exerts on the rigid body. Elements run in parallel (see
+/// [`assembly`](mod@assembly)); the sum is the same on any number of threads.
 pub fn total_force(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
-    for n in 0..m.nodes() {
-        for c in 0..3 {
-            f[3 * n + c] = m.mass[n] * m.gravity[c];
+    let at = checked_layout(m);
+    m.scratch.with(at.end, |slots| {
+        let (springs, membrane, dampers) = families(slots, &at);
+        fill(springs, &m.springs, |_, s| [s.force(x)]);
+        fill(membrane, &m.membrane, |_, t| t.edge_forces(x));
+        match m.damping {
+            Some(law) => fill(dampers, &m.dampers, |_, d| [d.force(law, x, v)]),
+            None => dampers.fill(Slot::zeros()),
         }
+        m.assembly
+            .0
+            .gather(slots, |n| Slot::from(m.gravity) * m.mass[n], f);
+    });
+    if !loads.pressure.is_empty() {
+        m.scratch.with(m.triangles.len(), |slots| {
+            fill(slots, &m.triangles, |k, tri| {
+                [pressure::vertex_load(x, tri, loads.pressure[k])]
+            });
+            m.assembly.1.gather_add(slots, f);
+        });
     }
-    for s in &m.springs {
-        s.add_force(x, f);
-    }
-    for t in &m.membrane {
-        t.add_force(x, f);
-    }
-    if let Some(law) = m.damping {
-        for d in &m.dampers {
-            d.add_force(law, x, v, f);
-        }
-    }
-    pressure::add_pressure(&m.triangles, loads.pressure, x, f);
+}
+
+/// The slot layout of `m`, checked against the assembly [`Model::prepare`] built.
+fn checked_layout(m: &Model) -> Layout {
+    let at = Layout::of(m);
+    let (elements, pressure) = &m.assembly;
+    assert!(
+        at.end == elements.slots()
+            && m.triangles.len() == pressure.slots()
+            && m.nodes() == elements.nodes(),
+        "the model changed after Model::prepare: call it again"
+    );
+    at
 }
 
 impl System for Dynamics<'_> {
@@ -78,20 +164,28 @@ impl System for Dynamics<'_> {
     /// load's dependence on the canopy's shape is left to the Newton iterations.
     fn jacobian_product(&self, x: &[f64], _v: &[f64], a: f64, b: f64, p: &[f64], out: &mut [f64]) {
         let m = self.model;
-        out.fill(0.0);
-        if a != 0.0 {
-            for s in &m.springs {
-                s.add_stiffness_product(x, a, p, out);
+        let at = checked_layout(m);
+        m.scratch.with(at.end, |slots| {
+            let (springs, membrane, dampers) = families(slots, &at);
+            if a != 0.0 {
+                fill(springs, &m.springs, |_, s| [s.stiffness_product(x, a, p)]);
+                fill(membrane, &m.membrane, |_, t| t.stiffness_product(x, a, p));
+            } else {
+                springs.fill(Slot::zeros());
+                membrane.fill(Slot::zeros());
             }
-            for t in &m.membrane {
-                t.add_stiffness_product(x, a, p, out);
+            match (m.damping, b != 0.0) {
+                (Some(law), true) => {
+                    fill(
+                        dampers,
+                        &m.dampers,
+                        |_, d| [d.damping_product(law, x, b, p)],
+                    )
+                }
+                _ => dampers.fill(Slot::zeros()),
             }
-        }
-        if let (Some(law), true) = (m.damping, b != 0.0) {
-            for d in &m.dampers {
-                d.add_damping_product(law, x, b, p, out);
-            }
-        }
+            m.assembly.0.gather(slots, |_| Slot::zeros(), out);
+        });
     }
 
     fn couplings(&self) -> &[(usize, usize, f64)] {

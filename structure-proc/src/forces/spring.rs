@@ -21,13 +21,6 @@ pub fn point(x: &[f64], n: usize) -> Vector3<f64> {
     Vector3::new(x[3 * n], x[3 * n + 1], x[3 * n + 2])
 }
 
-#[inline]
-pub fn add_to(out: &mut [f64], n: usize, f: &Vector3<f64>) {
-    out[3 * n] += f[0];
-    out[3 * n + 1] += f[1];
-    out[3 * n + 2] += f[2];
-}
-
 /// ∂²l/∂x_j² of a length l = |d|: (I − e eᵀ)/l. Shared with the Delingette springs.
 #[inline]
 pub fn length_hessian(e: &Vector3<f64>, l: f64) -> Matrix3<f64> {
@@ -57,34 +50,34 @@ impl Spring {
         0.5 * self.k * self.stretch(l).powi(2)
     }
 
-    /// Adds the spring force k δ e to node i and its opposite to node j (eq. 67).
+    /// The spring force k δ e on node i (eq. 67); node j gets its opposite.
     #[inline]
-    pub fn add_force(&self, x: &[f64], f: &mut [f64]) {
+    pub fn force(&self, x: &[f64]) -> Vector3<f64> {
         let d = point(x, self.j) - point(x, self.i);
         let l = d.norm();
-        let t = self.k * self.stretch(l);
-        if t != 0.0 && l > 0.0 {
-            let fe = d * (t / l);
-            add_to(f, self.i, &fe);
-            add_to(f, self.j, &-fe);
-        }
+        // No branch on a zero tension: springs near rest would mispredict it.
+        let per_length = if l > 0.0 {
+            self.k * self.stretch(l) / l
+        } else {
+            0.0
+        };
+        d * per_length
     }
 
-    /// Adds s·K·p, K = ∂²E/∂x² with the geometric part (T/l)(I − eeᵀ) kept only
-    /// under tension so that K stays positive semi-definite.
+    /// −(s·K·p) at node i, K = ∂²E/∂x²; node j gets its opposite. The
+    /// geometric part (T/l)(I − eeᵀ) is kept only under tension so that K stays
+    /// positive semi-definite.
     #[inline]
-    pub fn add_stiffness_product(&self, x: &[f64], s: f64, p: &[f64], out: &mut [f64]) {
+    pub fn stiffness_product(&self, x: &[f64], s: f64, p: &[f64]) -> Vector3<f64> {
         let d = point(x, self.j) - point(x, self.i);
         let l = d.norm();
         let stretch = self.stretch(l);
         if l == 0.0 || (self.tension_only && stretch == 0.0) {
-            return;
+            return Vector3::zeros();
         }
         let e = d / l;
         let t = (self.k * stretch).max(0.0);
         let q = point(p, self.j) - point(p, self.i);
-        let g = (e * (self.k * e.dot(&q)) + length_hessian(&e, l) * q * t) * s;
-        add_to(out, self.j, &g);
-        add_to(out, self.i, &-g);
+        -(e * (self.k * e.dot(&q)) + length_hessian(&e, l) * q * t) * s
     }
 }

@@ -20,8 +20,10 @@ mod newton;
 mod rk4;
 mod velocity_verlet;
 
+use crate::forces::assembly::GRAIN;
 pub use crate::system::System;
 pub use coupler::scenario::structure::{NewtonParams, Scheme};
+use rayon::prelude::*;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StepError {
@@ -112,35 +114,51 @@ impl<const K: usize> Work<K> {
     }
 }
 
+// The vector updates below run in parallel over nodes; each value is computed
+// alone, so the result does not depend on the number of threads.
+
 /// v ← v + h·f/m; where 1/m = 0, the impulse h·f goes to `reaction` instead.
 fn kick(v: &mut [f64], f: &[f64], inv_mass: &[f64], h: f64, reaction: &mut [f64]) {
-    for (i, vi) in v.iter_mut().enumerate() {
-        let w = inv_mass[i / 3];
-        if w == 0.0 {
-            reaction[i] += h * f[i];
-        } else {
-            *vi += h * f[i] * w;
-        }
-    }
+    v.par_chunks_exact_mut(3)
+        .zip(reaction.par_chunks_exact_mut(3))
+        .enumerate()
+        .with_min_len(GRAIN)
+        .for_each(|(n, (vn, rn))| {
+            let w = inv_mass[n];
+            for c in 0..3 {
+                if w == 0.0 {
+                    rn[c] += h * f[3 * n + c];
+                } else {
+                    vn[c] += h * f[3 * n + c] * w;
+                }
+            }
+        });
 }
 
 /// out ← v + h·f/m (velocity after a trial kick; held nodes keep theirs).
 fn kicked(out: &mut [f64], v: &[f64], f: &[f64], inv_mass: &[f64], h: f64) {
-    for (i, o) in out.iter_mut().enumerate() {
-        *o = v[i] + h * f[i] * inv_mass[i / 3];
-    }
+    out.par_chunks_exact_mut(3)
+        .enumerate()
+        .with_min_len(GRAIN)
+        .for_each(|(n, o)| {
+            for c in 0..3 {
+                o[c] = v[3 * n + c] + h * f[3 * n + c] * inv_mass[n];
+            }
+        });
 }
 
 /// out ← x + h·v.
 fn advanced(out: &mut [f64], x: &[f64], v: &[f64], h: f64) {
-    for ((o, xi), vi) in out.iter_mut().zip(x).zip(v) {
-        *o = xi + h * vi;
-    }
+    out.par_iter_mut()
+        .zip(x.par_iter().zip(v))
+        .with_min_len(3 * GRAIN)
+        .for_each(|(o, (xi, vi))| *o = xi + h * vi);
 }
 
 /// x ← x + h·v.
 fn drift(x: &mut [f64], v: &[f64], h: f64) {
-    for (xi, vi) in x.iter_mut().zip(v) {
-        *xi += h * vi;
-    }
+    x.par_iter_mut()
+        .zip(v.par_iter())
+        .with_min_len(3 * GRAIN)
+        .for_each(|(xi, vi)| *xi += h * vi);
 }
