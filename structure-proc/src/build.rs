@@ -1,12 +1,14 @@
 //! Build the model a scenario's `[structure]` section describes.
 
 use crate::annulus::{annulus, MeshError};
+use crate::cross::cross_canopy;
 use crate::forces::damping::{Damper, Law};
 use crate::forces::delingette::{lame, TriangleSprings};
 use crate::lines::add_line;
 use crate::model::{Attachment, Model, NodeKind, Spring};
 use crate::parachute::circular_canopy;
 use crate::rectangle::{rectangle, Edge};
+use coupler::scenario::parachute::CanopyShape;
 use coupler::scenario::structure::{Cloth, ClothHold, ClothPlane, Parachute};
 use coupler::scenario::structure::{Damping, Elasticity};
 use coupler::scenario::{RigidSection, StructureSection};
@@ -122,7 +124,7 @@ fn add_parachute(
     rigid: Option<&RigidSection>,
 ) -> Result<(), MeshError> {
     let g = p.geometry();
-    let radius = 0.5 * g.diameter;
+    let radius = g.skirt_radius();
     // Lines of length L from the skirt meet on the axis this far below it.
     let drop = (g.line_length.powi(2) - radius * radius).sqrt();
     let body = p
@@ -135,7 +137,10 @@ fn add_parachute(
         None => [0.0, 0.0, p.height - drop],
     };
     let z = confluence[2] + drop;
-    let mut mesh = circular_canopy(&g, p.resolution as usize, z)?;
+    let mut mesh = match g.shape {
+        CanopyShape::Circular => circular_canopy(&g, p.resolution as usize, z)?,
+        CanopyShape::Cross => cross_canopy(&g, p.resolution as usize, z)?,
+    };
     for point in mesh.points.chunks_exact_mut(3) {
         point[0] += confluence[0];
         point[1] += confluence[1];

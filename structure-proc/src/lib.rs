@@ -1,14 +1,16 @@
 //! structure-proc: the spring-mass canopy, cloth and strings (seed 000 §2.3,
 //! seed 003 §2.1–§2.4, §3.2).
 //!
-//! The physics lives here and never touches IPC; `main.rs` connects it to the
-//! coupler. Data are flat arrays (`x`, `v`: xyz interleaved per node), and the
+//! The physics lives here and never touches IPC; `driver.rs` connects a
+//! model and its stepper to the coupler, and `main.rs` only picks the stepper. Data are flat arrays (`x`, `v`: xyz interleaved per node), and the
 //! step functions take their inputs explicitly. Force terms are in `forces/`,
 //! time integrators in `integrators/`, and the two meet only through the
 //! [`System`] trait.
 
 pub mod annulus;
 pub mod build;
+pub mod cross;
+pub mod driver;
 pub mod forces;
 pub mod integrators;
 pub mod lines;

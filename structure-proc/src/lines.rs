@@ -79,7 +79,7 @@ impl Model {
     pub fn break_lines(&mut self) -> Vec<String> {
         let mut events = Vec::new();
         for (index, line) in self.lines.iter_mut().enumerate() {
-            if line.broken {
+            if line.broken || (line.break_time.is_none() && line.break_tension.is_none()) {
                 continue;
             }
             let tension = line

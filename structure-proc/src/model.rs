@@ -123,7 +123,14 @@ impl Model {
         self.x = x;
         self.v = v;
         result?;
-        let reaction = integrator.reaction();
+        self.finish_step(integrator.reaction());
+        Ok(())
+    }
+
+    /// End a step of any method: the attachments collect the impulse
+    /// `reaction` (3 per node, read at the attached nodes) and move on with
+    /// their body, and the time advances by `self.dt`.
+    pub fn finish_step(&mut self, reaction: &[f64]) {
         for a in &mut self.attachments {
             for c in 0..3 {
                 a.impulse[c] += reaction[3 * a.node + c];
@@ -132,7 +139,6 @@ impl Model {
         }
         self.place_attached();
         self.time += self.dt;
-        Ok(())
     }
 
     /// The total force at the current state, as the integrators see it.

@@ -22,15 +22,31 @@ pub enum ParachuteModel {
     /// Intruder (seed 000 table 5.2 names it, gives no geometry): assumed a small
     /// 16-gore flat circular canopy of 4.5 m with a 0.3 m vent.
     Intruder,
+    /// T-11 (seed 000 table 5.2 names it, gives no geometry): assumed a flat
+    /// cross of 35 ft span, a central square and four square arms, 28 lines
+    /// spread along the four arm ends.
+    T11,
     /// Everything from the keys below.
     Custom,
 }
 
-/// The flat circular canopy a model stands for.
+/// The outline of a flat canopy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CanopyShape {
+    /// A disc divided into gores.
+    Circular,
+    /// A cross: a central square of side D₀/3 and four square arms.
+    Cross,
+}
+
+/// The flat canopy a model stands for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CanopyGeometry {
-    /// Nominal (flat) diameter D₀ [m].
+    pub shape: CanopyShape,
+    /// Nominal (flat) diameter D₀ [m]; the tip-to-tip span of a cross.
     pub diameter: f64,
+    /// Gores, one line at each seam; for a cross, the number of lines, a
+    /// quarter of them along each arm end.
     pub gores: u32,
     /// Vent diameter [m]; 0 for none.
     pub vent: f64,
@@ -38,11 +54,23 @@ pub struct CanopyGeometry {
     pub line_length: f64,
 }
 
+impl CanopyGeometry {
+    /// Distance from the axis to the farthest line attachment [m]: the
+    /// skirt's radius, or a cross's arm-end corner at √(1.5² + 0.5²)·D₀/3.
+    pub fn skirt_radius(&self) -> f64 {
+        match self.shape {
+            CanopyShape::Circular => 0.5 * self.diameter,
+            CanopyShape::Cross => 2.5f64.sqrt() * self.diameter / 3.0,
+        }
+    }
+}
+
 impl ParachuteModel {
     /// The preset, None for `custom`. Where the seeds give no line length we assume
     /// 0.82·D₀, the C-9's ratio (7 m / 8.53 m).
     pub fn geometry(self) -> Option<CanopyGeometry> {
         let g = |d: f64, gores, vent, lines: Option<f64>| CanopyGeometry {
+            shape: CanopyShape::Circular,
             diameter: d,
             gores,
             vent,
@@ -53,6 +81,10 @@ impl ParachuteModel {
             ParachuteModel::T10 => Some(g(35.0 * FOOT, 30, 20.0 * INCH, None)),
             ParachuteModel::G11 => Some(g(100.0 * FOOT, 120, 0.0, None)),
             ParachuteModel::Intruder => Some(g(4.5, 16, 0.3, None)),
+            ParachuteModel::T11 => Some(CanopyGeometry {
+                shape: CanopyShape::Cross,
+                ..g(35.0 * FOOT, 28, 0.0, None)
+            }),
             ParachuteModel::Custom => None,
         }
     }
@@ -71,7 +103,8 @@ pub struct Parachute {
     pub vent_diameter: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub line_length: Option<f64>,
-    /// Node rings from the vent (or centre) to the skirt: the mesh resolution.
+    /// The mesh resolution: node rings from the vent (or centre) to the skirt,
+    /// or for a cross, mesh cells across an arm.
     #[serde(default = "default_resolution")]
     pub resolution: u32,
     /// Height of the flat canopy [m].
@@ -134,12 +167,14 @@ impl Parachute {
     /// The model's geometry with the overrides applied (`check` ensures a `custom` one is complete).
     pub fn geometry(&self) -> CanopyGeometry {
         let base = self.model.geometry().unwrap_or(CanopyGeometry {
+            shape: CanopyShape::Circular,
             diameter: f64::NAN,
             gores: 0,
             vent: 0.0,
             line_length: f64::NAN,
         });
         CanopyGeometry {
+            shape: base.shape,
             diameter: self.nominal_diameter.unwrap_or(base.diameter),
             gores: self.gores.unwrap_or(base.gores),
             vent: self.vent_diameter.unwrap_or(base.vent),
@@ -178,15 +213,35 @@ impl Parachute {
                 );
             }
             c.positive(&["line_length"], g.line_length, "m");
-            if g.line_length <= 0.5 * g.diameter {
+            if g.line_length <= g.skirt_radius() {
                 c.problem(
                     &["line_length"],
                     format!(
                         "line_length = {} m cannot reach the axis from a skirt of radius {} m",
                         g.line_length,
-                        0.5 * g.diameter
+                        g.skirt_radius()
                     ),
                 );
+            }
+            if g.shape == CanopyShape::Cross {
+                let per_arm = g.gores / 4;
+                if g.gores % 4 != 0 || per_arm < 2 || per_arm > self.resolution + 1 {
+                    c.problem(
+                        &["gores"],
+                        format!(
+                            "a cross canopy needs lines in fours, 2 to resolution + 1 = {} per arm end; gores = {} gives {}",
+                            self.resolution + 1,
+                            g.gores,
+                            g.gores as f64 / 4.0
+                        ),
+                    );
+                }
+                if g.vent != 0.0 {
+                    c.problem(&["vent_diameter"], "a cross canopy has no vent".into());
+                }
+                if self.seam_stiffness.is_some() {
+                    c.problem(&["seam_stiffness"], "a cross canopy has no gore seams".into());
+                }
             }
             if !(2..=200).contains(&self.resolution) {
                 c.problem(

@@ -120,10 +120,29 @@ pub fn total_force(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]
             Some(law) => fill(dampers, &m.dampers, |_, d| [d.force(law, x, v)]),
             None => dampers.fill(Slot::zeros()),
         }
-        m.assembly
-            .0
-            .gather(slots, |n| Slot::from(m.gravity) * m.mass[n], f);
+        m.assembly.0.gather(slots, |n| weight(m, n), f);
     });
+    add_pressure(m, loads, x, f);
+}
+
+/// The external loads alone, gravity and the fluid's pressure jump, at
+/// positions `x`; `f` is overwritten. For solvers that treat the elastic and
+/// viscous terms as constraints.
+pub fn external_force(m: &Model, loads: &Loads, x: &[f64], f: &mut [f64]) {
+    checked_layout(m);
+    for (n, fn_) in f.chunks_exact_mut(3).enumerate() {
+        fn_.copy_from_slice(weight(m, n).as_slice());
+    }
+    add_pressure(m, loads, x, f);
+}
+
+/// m·g of node n [N].
+fn weight(m: &Model, n: usize) -> Slot {
+    Slot::from(m.gravity) * m.mass[n]
+}
+
+/// f ← f + the pressure jump's load, when a fluid sends one.
+fn add_pressure(m: &Model, loads: &Loads, x: &[f64], f: &mut [f64]) {
     if !loads.pressure.is_empty() {
         m.scratch.with(m.triangles.len(), |slots| {
             fill(slots, &m.triangles, |k, tri| {

@@ -23,6 +23,7 @@ mod velocity_verlet;
 use crate::forces::assembly::GRAIN;
 pub use crate::system::System;
 pub use coupler::scenario::structure::{NewtonParams, Scheme};
+pub use newton::extent;
 use rayon::prelude::*;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

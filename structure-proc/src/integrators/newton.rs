@@ -35,7 +35,7 @@ pub struct Newton {
 }
 
 /// Length of the bounding-box diagonal of the points in `x`.
-fn extent(x: &[f64]) -> f64 {
+pub fn extent(x: &[f64]) -> f64 {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in x.chunks_exact(3) {

@@ -1,0 +1,194 @@
+//! Drives a structure solver from the coupler's commands: the loop every
+//! structure executable shares (structure-proc with its integrators, xpbd-proc
+//! with its constraint solver). It reads the fluid's pressure and the rigid
+//! bodies' attachment points, asks the [`Stepper`] for the sub-steps, breaks
+//! lines, sends back impulses, canopy state and monitors, and writes output.
+//! The physics stays in the stepper; the IPC stays here and in `coupler`.
+
+use crate::forces::Loads;
+use crate::integrators::{Integrator, StepError};
+use crate::output::Output;
+use crate::{build_model, Model, NodeKind};
+use coupler::scenario::structure::StructureSection;
+use coupler::{Command, Field, Monitor, Participant, Role};
+
+pub type Error = Box<dyn std::error::Error>;
+
+/// A method that advances the model by one structure step `m.dt`.
+pub trait Stepper {
+    /// The method's name, for messages.
+    fn name(&self) -> &str;
+
+    /// Advance `m` by `m.dt` under `loads`: positions, velocities, the
+    /// attachment impulses and `m.time` (see [`Model::finish_step`]).
+    fn step(&mut self, m: &mut Model, loads: &Loads) -> Result<(), StepError>;
+}
+
+/// One of the integrators of seed 003 §2.4 (or backward Euler) as a stepper.
+pub struct Scheme {
+    pub name: &'static str,
+    pub integrator: Box<dyn Integrator>,
+}
+
+impl Scheme {
+    /// The integrator the section names.
+    pub fn of(section: &StructureSection) -> Scheme {
+        Scheme {
+            name: section.integrator.name(),
+            integrator: crate::integrator(section.scheme()),
+        }
+    }
+}
+
+impl Stepper for Scheme {
+    fn name(&self) -> &str {
+        self.name
+    }
+
+    fn step(&mut self, m: &mut Model, loads: &Loads) -> Result<(), StepError> {
+        m.step(self.integrator.as_mut(), loads)
+    }
+}
+
+/// Run `run` and exit: status 1 with the message on stderr if it failed.
+pub fn main<S: Stepper>(
+    program: &str,
+    make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
+) {
+    if let Err(e) = run(make) {
+        eprintln!("{program}: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn monitors(m: &Model) -> Vec<Monitor> {
+    let mut v = vec![
+        Monitor::new("kinetic_energy", m.kinetic_energy()),
+        Monitor::new("potential_energy", m.potential_energy()),
+    ];
+    if m.canopy_nodes > 0 {
+        v.push(Monitor::new("centre_deflection", m.centre_deflection()));
+    }
+    for (name, n) in &m.points {
+        if m.kind[*n] == NodeKind::Free {
+            for (c, axis) in ["x", "y", "z", "vx", "vy", "vz"].iter().enumerate() {
+                let value = if c < 3 {
+                    m.x[3 * n + c]
+                } else {
+                    m.v[3 * n + c - 3]
+                };
+                v.push(Monitor::new(format!("{name}.{axis}"), value));
+            }
+        }
+    }
+    v
+}
+
+/// Canopy positions and velocities for the fluid (and, once, its triangles).
+fn publish_canopy(p: &mut Participant, m: &Model, with_triangles: bool) -> Result<(), Error> {
+    let n = 3 * m.canopy_nodes;
+    if with_triangles {
+        p.write_field(Field::CanopyTriangles, 3 * m.triangles.len(), |out| {
+            for (o, &i) in out.iter_mut().zip(m.triangles.iter().flatten()) {
+                *o = i as f64;
+            }
+        })?;
+    }
+    p.write_field(Field::CanopyPositions, n, |out| {
+        out.copy_from_slice(&m.x[..n])
+    })?;
+    p.write_field(Field::CanopyVelocities, n, |out| {
+        out.copy_from_slice(&m.v[..n])
+    })?;
+    Ok(())
+}
+
+/// Connect to the coupler as the structure participant, build the model of
+/// the scenario's `[structure]` section, and advance it with the stepper that
+/// `make` returns, until the coupler says stop.
+pub fn run<S: Stepper>(
+    make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
+) -> Result<(), Error> {
+    let mut p = Participant::connect(Role::Structure)?;
+    let scenario = p.scenario().clone();
+    let section = scenario
+        .structure
+        .as_ref()
+        .ok_or("the scenario has no [structure] section")?;
+    let dt = scenario.coupling.window / scenario.coupling.structure_substeps as f64;
+    let mut m = build_model(section, scenario.rigid.as_ref(), dt)?;
+    let mut stepper = make(section, &m)?;
+    let mut output = Output::new(p.run_dir(), &m);
+    let mut substeps = 0u64;
+    let mut pressure = None;
+    let mut pressure_window = None;
+    loop {
+        match p.next_command()? {
+            Command::Initialize => {
+                publish_canopy(&mut p, &m, true)?;
+                p.done(monitors(&m))?;
+            }
+            Command::Advance(step) => {
+                // The fluid publishes one pressure per window; impulse sub-steps
+                // after the first keep using it.
+                if p.is_connected(Field::CanopyPressure) && pressure_window != Some(step.window) {
+                    pressure = Some(p.read_field(Field::CanopyPressure)?);
+                    pressure_window = Some(step.window);
+                }
+                if p.is_connected(Field::AttachmentState) {
+                    let state = p.read_field(Field::AttachmentState)?;
+                    m.set_attachments(&state);
+                }
+                let loads = Loads {
+                    pressure: pressure.as_deref().unwrap_or(&[]),
+                };
+                m.dt = step.dt / step.substeps as f64;
+                m.time = step.time;
+                let mut failure = None;
+                for k in 0..step.substeps {
+                    if let Err(e) = stepper.step(&mut m, &loads) {
+                        let t = step.time + k as f64 * m.dt;
+                        failure = Some(format!("{} failed at t = {t:.6e} s: {e}", stepper.name()));
+                        break;
+                    }
+                    for event in m.break_lines() {
+                        eprintln!("{event}");
+                    }
+                }
+                substeps += step.substeps as u64;
+                if failure.is_none() {
+                    if let Some((node, what)) = m.first_non_finite() {
+                        failure = Some(format!(
+                            "diverged at t = {:.6e} s: node {node} has a non-finite {what}",
+                            step.time + step.dt
+                        ));
+                    }
+                }
+                if let Some(msg) = failure {
+                    p.fail(msg.clone())?;
+                    return Err(msg.into());
+                }
+                let n_att = m.attachments.len();
+                p.write_field(Field::AttachmentImpulse, 3 * n_att, |out| {
+                    for (o, a) in out.chunks_exact_mut(3).zip(&m.attachments) {
+                        o.copy_from_slice(&a.impulse);
+                    }
+                })?;
+                if step.window_end {
+                    publish_canopy(&mut p, &m, false)?;
+                    p.done(monitors(&m))?;
+                } else {
+                    p.done(Vec::new())?;
+                }
+            }
+            Command::Output { index, time } => {
+                output.write(&m, index, time)?;
+                p.done(Vec::new())?;
+            }
+            Command::Stop => break,
+            Command::Setup(_) => return Err("unexpected second setup".into()),
+        }
+    }
+    p.finish(substeps)?;
+    Ok(())
+}
