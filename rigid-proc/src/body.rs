@@ -17,7 +17,7 @@ pub struct Body {
 pub struct Bodies {
     pub bodies: Vec<Body>,
     pub gravity: [f64; 3],
-    /// For each attachment point (in `[[structure.strings]]` order), the body it belongs to.
+    /// For each attachment point (in `StructureSection::attachment_bodies` order), the body it belongs to.
     pub attachment_body: Vec<usize>,
 }
 

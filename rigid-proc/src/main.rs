@@ -45,7 +45,7 @@ fn run() -> Result<(), Error> {
     let attached: Vec<&str> = scenario
         .structure
         .iter()
-        .flat_map(|s| s.strings.iter().map(|st| st.body.as_str()))
+        .flat_map(|s| s.attachment_bodies())
         .collect();
     let mut bodies = Bodies::new(section, &attached);
     let mut series = Series::new(p.run_dir(), "bodies");

@@ -14,8 +14,9 @@ use coupler::scenario::structure::{Damping, Elasticity};
 use coupler::scenario::{RigidSection, StructureSection};
 use std::collections::BTreeSet;
 
-/// The model for `[structure]`, with structure step `dt` = Δt_s. Strings attach
-/// to the bodies of `[rigid]`, in the order of `[[structure.strings]]`.
+/// The model for `[structure]`, with structure step `dt` = Δt_s. The parachute's
+/// confluence and the strings attach to the bodies of `[rigid]`, numbered as
+/// [`StructureSection::attachment_bodies`] lists them.
 pub fn build_model(
     s: &StructureSection,
     rigid: Option<&RigidSection>,
@@ -127,10 +128,16 @@ fn add_parachute(
     let radius = g.skirt_radius();
     // Lines of length L from the skirt meet on the axis this far below it.
     let drop = (g.line_length.powi(2) - radius * radius).sqrt();
-    let body = p
-        .body
-        .as_ref()
-        .and_then(|name| rigid.and_then(|r| r.bodies.iter().find(|b| &b.name == name)));
+    let body = match &p.body {
+        Some(name) => Some(
+            rigid
+                .and_then(|r| r.bodies.iter().find(|b| &b.name == name))
+                .ok_or_else(|| {
+                    MeshError(format!("the parachute's body `{name}` is not in [rigid]"))
+                })?,
+        ),
+        None => None,
+    };
     // Attached to a body, the canopy is placed above it; otherwise at `height`.
     let confluence = match body {
         Some(b) => b.position,

@@ -116,3 +116,66 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
         e[last]
     );
 }
+
+/// The C-9's lines attached to a rigid body instead of a mass point (seed 000
+/// §2.4): rigid-proc carries a 100 kg body, structure-proc hangs the lines on
+/// it and sends their impulse every structure sub-step. A body without
+/// rotation is a mass point, so the payload falls as the mass point does,
+/// up to the one-sub-step lag of the impulse exchange.
+#[test]
+fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
+    use coupler::scenario::rigid::{BodySpec, RigidSection};
+    use coupler::scenario::ParticipantSpec;
+    let dir = scratch("c9-body");
+    let shorten = |s: &mut coupler::Scenario| {
+        s.run.end_time = 0.5;
+        s.run.output_interval = 0.0;
+    };
+    for sub in ["point", "body"] {
+        std::fs::create_dir_all(dir.join(sub)).unwrap();
+    }
+    let point = variant("c9-drop", &dir.join("point"), shorten);
+    let on_body = variant("c9-drop", &dir.join("body"), |s| {
+        shorten(s);
+        s.coupling.impulse_substeps = s.coupling.structure_substeps;
+        s.participants.rigid = Some(ParticipantSpec {
+            program: "rigid-proc".into(),
+            args: Vec::new(),
+        });
+        let gravity = s.structure.as_ref().unwrap().gravity;
+        let p = s.structure.as_mut().unwrap().parachute.as_mut().unwrap();
+        let g = p.geometry();
+        // Where the mass point starts: the confluence below the canopy at `height`.
+        let drop = (g.line_length.powi(2) - g.skirt_radius().powi(2)).sqrt();
+        let start = [0.0, 0.0, p.height - drop];
+        p.payload_mass = None;
+        p.body = Some("payload".into());
+        s.rigid = Some(RigidSection {
+            gravity,
+            bodies: vec![BodySpec {
+                name: "payload".into(),
+                mass: 100.0,
+                position: start,
+                velocity: [0.0; 3],
+                linear_damping: 0.0,
+            }],
+        });
+    });
+    run_ok(&point, &dir.join("point/run"));
+    run_ok(&on_body, &dir.join("body/run"));
+    let zp = Monitors::read(&dir.join("point/run")).column("structure.confluence.z");
+    let zb = Monitors::read(&dir.join("body/run")).column("rigid.payload.z");
+    assert_eq!(zp.len(), zb.len());
+    let fall = zp[0] - zp[zp.len() - 1];
+    assert!(fall > 0.5, "fell {fall} m");
+    assert!((zp[0] - zb[0]).abs() < 1e-12, "same start");
+    let worst = zp
+        .iter()
+        .zip(&zb)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1e-3 * fall,
+        "body and point differ by {worst} m over a {fall} m fall"
+    );
+}

@@ -249,6 +249,16 @@ pub struct SpringSpec {
 }
 
 impl StructureSection {
+    /// The rigid body of every attachment point, in the order structure
+    /// solvers number them and exchange their state and impulses: the
+    /// parachute's confluence first, then the strings of `[[structure.strings]]`.
+    pub fn attachment_bodies(&self) -> Vec<&str> {
+        let confluence = self.parachute.iter().filter_map(|p| p.body.as_deref());
+        confluence
+            .chain(self.strings.iter().map(|st| st.body.as_str()))
+            .collect()
+    }
+
     /// The integrator with its parameters resolved.
     pub fn scheme(&self) -> Scheme {
         Scheme::resolve(self.integrator, self.newmark, self.hht, self.newton)
