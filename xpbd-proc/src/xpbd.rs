@@ -36,7 +36,7 @@ pub struct Xpbd {
     pub max_sweeps: u32,
     /// Positions at the start of the step.
     prev: Vec<f64>,
-    /// External force, then nothing.
+    /// External force at the start of the step [N], 3 per node.
     f: Vec<f64>,
     /// Multiplier λ_j of every spring, accumulated over the sweeps.
     lambda: Vec<f64>,
@@ -172,9 +172,7 @@ impl Stepper for Xpbd {
                 }
             }
         }
-        let reaction = std::mem::take(&mut self.reaction);
-        m.finish_step(&reaction);
-        self.reaction = reaction;
+        m.finish_step(&self.reaction);
         Ok(())
     }
 }
