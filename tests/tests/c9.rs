@@ -143,11 +143,12 @@ fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
             args: Vec::new(),
         });
         let gravity = s.structure.as_ref().unwrap().gravity;
+        // The body starts where the generator puts the mass point.
+        let section = s.structure.as_ref().unwrap();
+        let m = build_model(section, None, 1e-4).unwrap();
+        let (_, hub) = m.points.iter().find(|(n, _)| n == "confluence").unwrap();
+        let start = [m.x[3 * hub], m.x[3 * hub + 1], m.x[3 * hub + 2]];
         let p = s.structure.as_mut().unwrap().parachute.as_mut().unwrap();
-        let g = p.geometry();
-        // Where the mass point starts: the confluence below the canopy at `height`.
-        let drop = (g.line_length.powi(2) - g.skirt_radius().powi(2)).sqrt();
-        let start = [0.0, 0.0, p.height - drop];
         p.payload_mass = None;
         p.body = Some("payload".into());
         s.rigid = Some(RigidSection {

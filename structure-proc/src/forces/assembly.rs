@@ -117,11 +117,14 @@ impl Assembly {
 pub struct Scratch(Mutex<Vec<Slot>>);
 
 impl Scratch {
-    /// Run `f` on a buffer of `len` slots (contents unspecified).
+    /// Run `f` on a buffer of `len` slots (contents unspecified). The buffer
+    /// only grows, so calls of different lengths do not refill it.
     pub fn with<R>(&self, len: usize, f: impl FnOnce(&mut [Slot]) -> R) -> R {
         let mut buf = self.0.lock().unwrap_or_else(|e| e.into_inner());
-        buf.resize(len, Slot::zeros());
-        f(&mut buf)
+        if buf.len() < len {
+            buf.resize(len, Slot::zeros());
+        }
+        f(&mut buf[..len])
     }
 }
 
