@@ -1,7 +1,7 @@
 //! fluid-proc: connects the flow models to the coupler.
 
 use coupler::{Command, Field, Monitor, Participant, Role};
-use fluid_proc::porous::{triangles_from_field, Porous};
+use fluid_proc::{triangles_from_field, Porous};
 
 type Error = Box<dyn std::error::Error>;
 
@@ -19,7 +19,7 @@ fn run() -> Result<(), Error> {
         .fluid
         .clone()
         .ok_or("the scenario has no [fluid] section")?;
-    let model = Porous::new(&section);
+    let model = Porous::new(&section.porous_load());
     let mut triangles: Option<Vec<[usize; 3]>> = None;
     let mut windows = 0u64;
     loop {

@@ -29,6 +29,7 @@ pub fn build_model(
             Damping::Viscous => Some(Law::Axial),
         },
         gravity: s.gravity,
+        porous: s.porous.as_ref().map(porous::Porous::new),
         dt,
         ..Default::default()
     };

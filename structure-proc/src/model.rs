@@ -63,6 +63,9 @@ pub struct Model {
     /// Named points of a hand-built network, with their node, for the monitors.
     pub points: Vec<(String, usize)>,
     pub gravity: [f64; 3],
+    /// The Darcy–Forchheimer load of a free stream through the canopy
+    /// triangles (seed 003 eqs. 6–10), when the structure applies it itself.
+    pub porous: Option<porous::Porous>,
     /// Structure time step Δt_s [s] of the current step (the last window may be shorter).
     pub dt: f64,
     /// 1/m for free nodes, 0 for fixed and attached ones; set by [`Model::prepare`].

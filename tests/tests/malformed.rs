@@ -362,7 +362,39 @@ const CASES: &[Case] = &[
         says: "no point is named `q`",
         line_of: Some("ends = "),
     },
+    Case {
+        name: "porous-load-without-a-surface",
+        edit: |t| format!("{t}\n{POROUS}"),
+        key: Some("structure.porous"),
+        says: "a porous load needs a canopy surface",
+        line_of: Some("[structure.porous]"),
+    },
+    Case {
+        name: "porous-porosity-out-of-range",
+        edit: |t| {
+            format!(
+                "{t}\n{}",
+                POROUS.replace("porosity = 0.1", "porosity = 1.5")
+            )
+        },
+        key: Some("structure.porous.porosity"),
+        says: "must lie strictly between 0 and 1",
+        line_of: Some("porosity = 1.5"),
+    },
+    Case {
+        name: "porous-load-twice",
+        edit: |t| {
+            let fluid = "[participants.fluid]\nprogram = \"fluid-proc\"\n\n[fluid]\nfree_stream = [0.0, 0.0, 1.0]\nporosity = 0.1\ndiameter = 1e-3\nthickness = 1e-4\n";
+            format!("{t}\n{fluid}\n{POROUS}")
+        },
+        key: Some("structure.porous"),
+        says: "participant `fluid` loads the canopy too",
+        line_of: Some("[structure.porous]"),
+    },
 ];
+
+/// The porous load of `[structure.porous]` (seed 003 eqs. 6–10), appended to a scenario.
+const POROUS: &str = "[structure.porous]\nfree_stream = [0.0, 0.0, 1.0]\nporosity = 0.1\ndiameter = 1e-3\nthickness = 1e-4\n";
 
 /// 1-based line of the first occurrence of `needle` (which may span lines: its first line counts).
 fn line_of(text: &str, needle: &str) -> usize {

@@ -4,6 +4,10 @@
 //! structure-proc's force integrator reaches. Both solve the same static
 //! balance of springs, gravity and the Ergun load (seed 003 §3.2); XPBD gets
 //! there by position projections (Macklin et al. 2016) instead of forces.
+//!
+//! The porous load can move too (issue 3, item 1): the same scene with
+//! fluid-proc's `[fluid]` keys given to `[structure.porous]` instead, and no
+//! fluid process, settles at the same deflection, for one law serves both.
 
 use canopy_tests::*;
 
@@ -33,5 +37,29 @@ fn xpbd_proc_reaches_structure_procs_equilibrium() {
     assert!(
         (d / reference - 1.0).abs() < 0.05,
         "xpbd-proc {d} m, structure-proc {reference} m"
+    );
+}
+
+#[test]
+fn the_porous_load_applied_by_the_structure_matches_fluid_procs() {
+    let dir = scratch("porous-in-structure");
+    let alone = variant("canopy-porous", &dir, |s| {
+        s.participants.fluid = None;
+        let fluid = s.fluid.take().expect("canopy-porous has a [fluid] section");
+        s.structure.as_mut().unwrap().porous = Some(fluid.porous_load());
+    });
+    let (reference, _) = final_deflection(&scenario_path("canopy-porous"), &dir.join("fluid"));
+    let (d, ke) = final_deflection(&alone, &dir.join("alone"));
+    let processes = manifest(&dir.join("alone"))["processes"].to_string();
+    assert!(
+        !processes.contains("fluid-proc"),
+        "no fluid process ran: {processes}"
+    );
+    assert!(ke < 1e-6, "still moving: {ke} J");
+    // The only difference: fluid-proc's jump lags one window behind the
+    // structure; at rest that lag vanishes.
+    assert!(
+        (d / reference - 1.0).abs() < 1e-6,
+        "structure alone {d} m, with fluid-proc {reference} m"
     );
 }

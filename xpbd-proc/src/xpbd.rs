@@ -124,7 +124,7 @@ impl Stepper for Xpbd {
         let h = m.dt;
         let n = m.x.len();
         self.f.resize(n, 0.0);
-        external_force(m, loads, &m.x, &mut self.f);
+        external_force(m, loads, &m.x, &m.v, &mut self.f);
         self.reaction.clear();
         self.reaction.resize(n, 0.0);
         // Prediction (Algorithm 1, lines 2–3): held nodes keep their velocity

@@ -12,7 +12,7 @@ pub mod structure;
 
 pub use check::Checker;
 pub use error::ScenarioError;
-pub use fluid::FluidSection;
+pub use fluid::{FluidSection, PorousLoad};
 pub use rigid::RigidSection;
 pub use structure::StructureSection;
 
@@ -262,6 +262,15 @@ impl Scenario {
         }
         if let Some(s) = &self.fluid {
             s.check(c);
+        }
+        let porous_in_structure = self.structure.as_ref().is_some_and(|s| s.porous.is_some());
+        if porous_in_structure && self.participants.fluid.is_some() {
+            c.problem(
+                &["structure", "porous"],
+                "[structure.porous] makes the structure apply the porous load itself, but \
+                 participant `fluid` loads the canopy too: keep one of them"
+                    .into(),
+            );
         }
         if let Some(s) = &self.structure {
             s.check(c, self.rigid.as_ref());

@@ -1,6 +1,7 @@
 //! `[structure]`: the spring-mass canopy and strings (seed 003 §2.1, §3.2).
 
 use super::check::Checker;
+use super::fluid::PorousLoad;
 pub use super::integrator::{HhtParams, Integrator, NewmarkParams, NewtonParams, Scheme};
 pub use super::parachute::{
     Cloth, ClothHold, ClothPlane, LineBreak, LineChange, Parachute, ParachuteModel,
@@ -55,6 +56,11 @@ pub struct StructureSection {
     /// Hookean springs between named points.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub springs: Vec<SpringSpec>,
+    /// The Darcy–Forchheimer load of a free stream through the canopy
+    /// (seed 003 eqs. 6–10), applied by the structure solver itself: the
+    /// porous scenes without a fluid process.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub porous: Option<PorousLoad>,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -270,6 +276,12 @@ impl StructureSection {
             let surfaces = self.annulus.is_some() as u8 + self.parachute.is_some() as u8 + self.cloth.is_some() as u8;
             if surfaces == 0 && self.strings.is_empty() && self.points.is_empty() {
                 c.problem(&[], "has nothing to simulate: give [structure.annulus], [structure.parachute], [structure.cloth], [[structure.strings]] or [[structure.points]]".into());
+            }
+            if let Some(p) = &self.porous {
+                c.within("porous", None, |c| p.check(c));
+                if surfaces == 0 {
+                    c.problem(&["porous"], "a porous load needs a canopy surface: give [structure.annulus], [structure.parachute] or [structure.cloth]".into());
+                }
             }
             if surfaces > 1 {
                 c.problem(&["cloth"], "give at most one of [structure.annulus], [structure.parachute] and [structure.cloth]".into());

@@ -1,7 +1,7 @@
 //! Forces on the nodes, each term in its own file with its energy where one
 //! exists: Hookean springs and strings (`spring.rs`), Delingette's triangular
-//! springs (`delingette.rs`), viscous damping (`damping.rs`), the fluid's
-//! pressure jump (`pressure.rs`), and gravity here.
+//! springs (`delingette.rs`), viscous damping (`damping.rs`), the pressure
+//! jump from the fluid or from the porous law (`pressure.rs`), and gravity here.
 
 pub mod assembly;
 pub mod damping;
@@ -122,18 +122,19 @@ pub fn total_force(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]
         }
         m.assembly.0.gather(slots, |n| weight(m, n), f);
     });
-    add_pressure(m, loads, x, f);
+    add_pressure(m, loads, x, v, f);
 }
 
-/// The external loads alone, gravity and the fluid's pressure jump, at
-/// positions `x`; `f` is overwritten. For solvers that treat the elastic and
-/// viscous terms as constraints.
-pub fn external_force(m: &Model, loads: &Loads, x: &[f64], f: &mut [f64]) {
+/// The external loads alone, gravity and the pressure jump (the fluid's and
+/// the porous law's), at positions `x` and velocities `v`; `f` is
+/// overwritten. For solvers that treat the elastic and viscous terms as
+/// constraints.
+pub fn external_force(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
     checked_layout(m);
     for (n, fn_) in f.chunks_exact_mut(3).enumerate() {
         fn_.copy_from_slice(weight(m, n).as_slice());
     }
-    add_pressure(m, loads, x, f);
+    add_pressure(m, loads, x, v, f);
 }
 
 /// m·g of node n [N].
@@ -141,16 +142,24 @@ fn weight(m: &Model, n: usize) -> Slot {
     Slot::from(m.gravity) * m.mass[n]
 }
 
-/// f ← f + the pressure jump's load, when a fluid sends one.
-fn add_pressure(m: &Model, loads: &Loads, x: &[f64], f: &mut [f64]) {
-    if !loads.pressure.is_empty() {
-        m.scratch.with(m.triangles.len(), |slots| {
-            fill(slots, &m.triangles, |k, tri| {
-                [pressure::vertex_load(x, tri, loads.pressure[k])]
-            });
-            m.assembly.1.gather_add(slots, f);
-        });
+/// f ← f + the pressure jump's load: the fluid's when one sends it, plus the
+/// porous law's when the structure applies it (`[structure.porous]`).
+fn add_pressure(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
+    let fluid = !loads.pressure.is_empty();
+    if !fluid && m.porous.is_none() {
+        return;
     }
+    m.scratch.with(m.triangles.len(), |slots| {
+        fill(slots, &m.triangles, |k, tri| {
+            let received = if fluid { loads.pressure[k] } else { 0.0 };
+            let porous = m
+                .porous
+                .as_ref()
+                .map_or(0.0, |p| p.triangle_jump(x, v, tri));
+            [pressure::vertex_load(x, tri, received + porous)]
+        });
+        m.assembly.1.gather_add(slots, f);
+    });
 }
 
 /// The slot layout of `m`, checked against the assembly [`Model::prepare`] built.
@@ -179,9 +188,10 @@ impl System for Dynamics<'_> {
         total_force(self.model, self.loads, x, v, f);
     }
 
-    /// The elastic and viscous terms; gravity is constant and the pressure
-    /// load's dependence on the canopy's shape is left to the Newton iterations.
-    fn jacobian_product(&self, x: &[f64], _v: &[f64], a: f64, b: f64, p: &[f64], out: &mut [f64]) {
+    /// The elastic and viscous terms and the porous load's resistance to
+    /// motion; gravity is constant and the pressure load's dependence on the
+    /// canopy's shape is left to the Newton iterations.
+    fn jacobian_product(&self, x: &[f64], v: &[f64], a: f64, b: f64, p: &[f64], out: &mut [f64]) {
         let m = self.model;
         let at = checked_layout(m);
         m.scratch.with(at.end, |slots| {
@@ -205,6 +215,14 @@ impl System for Dynamics<'_> {
             }
             m.assembly.0.gather(slots, |_| Slot::zeros(), out);
         });
+        if let (Some(law), true) = (&m.porous, b != 0.0) {
+            m.scratch.with(m.triangles.len(), |slots| {
+                fill(slots, &m.triangles, |_, tri| {
+                    [pressure::porous_damping_product(law, x, v, tri, b, p)]
+                });
+                m.assembly.1.gather_add(slots, out);
+            });
+        }
     }
 
     fn couplings(&self) -> &[(usize, usize, f64)] {

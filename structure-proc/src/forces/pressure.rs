@@ -1,16 +1,10 @@
-//! The pressure jump across the canopy, received from the fluid process: each
+//! The pressure jump across the canopy, received from the fluid process or
+//! given by the porous law of `[structure.porous]` (the `porous` crate): each
 //! triangle pushes its three vertices with a third of jump·area·n.
 
 use super::spring::point;
 use nalgebra::Vector3;
-
-/// (x1 − x0) × (x2 − x0): twice the area times the unit normal.
-#[inline]
-pub fn area_normal2(x: &[f64], tri: &[usize; 3]) -> [f64; 3] {
-    let p0 = point(x, tri[0]);
-    let n = (point(x, tri[1]) - p0).cross(&(point(x, tri[2]) - p0));
-    [n[0], n[1], n[2]]
-}
+pub use porous::area_normal2;
 
 /// jump·area·n/3, the share of each vertex of `tri`; `jump` in Pa.
 #[inline]
@@ -19,4 +13,25 @@ pub fn vertex_load(x: &[f64], tri: &[usize; 3], jump: f64) -> Vector3<f64> {
         return Vector3::zeros();
     }
     Vector3::from(area_normal2(x, tri)) * (jump / 6.0)
+}
+
+/// (s·C)·p on each vertex of `tri` for the porous load's resistance to the
+/// triangle's motion, C = −∂F/∂v = c·n·nᵀ on every vertex pair (see
+/// [`porous::Porous::triangle_damping`]).
+#[inline]
+pub fn porous_damping_product(
+    law: &porous::Porous,
+    x: &[f64],
+    v: &[f64],
+    tri: &[usize; 3],
+    s: f64,
+    p: &[f64],
+) -> Vector3<f64> {
+    let (c, n) = law.triangle_damping(x, v, tri);
+    if c == 0.0 {
+        return Vector3::zeros();
+    }
+    let n = Vector3::from(n);
+    let q: Vector3<f64> = tri.iter().map(|&j| point(p, j)).sum();
+    n * (s * c * n.dot(&q))
 }

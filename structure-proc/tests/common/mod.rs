@@ -62,6 +62,7 @@ pub fn canopy(e: Elasticity, gravity: [f64; 3], damping: Option<Law>) -> Model {
         strings: vec![],
         points: vec![],
         springs: vec![],
+        porous: None,
     };
     structure_proc::build_model(&section, None, 1e-3).unwrap()
 }
