@@ -31,6 +31,13 @@ enum Cmd {
         #[command(subcommand)]
         what: BenchCmd,
     },
+    /// Integrator studies: `coupler study accuracy …` (see `coupler study --help`).
+    #[command(disable_help_flag = true)]
+    Study {
+        /// Arguments for the `study` executable.
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
     /// The other end of `bench exchange` (started by it).
     #[command(hide = true)]
     BenchPeer {
@@ -73,6 +80,7 @@ fn main() {
         Cmd::Bench {
             what: BenchCmd::Exchange { rounds, scene },
         } => launcher::bench::exchange(rounds.max(10), Some(&scene)),
+        Cmd::Study { args } => launcher::study::study(&args),
         Cmd::BenchPeer { run_id, echo } => launcher::bench::peer(&run_id, echo),
     };
     std::process::exit(code);

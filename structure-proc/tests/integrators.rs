@@ -18,17 +18,12 @@ const C: f64 = 0.5;
 /// Rest length of the spring; the mass moves along it, so the spring stays linear.
 const REST: f64 = 10.0;
 
-/// Seed 003 eqs. (77)–(81) with v₀ = 0: x(t) = A e^{−ct/2m} sin(ωt + φ), and its derivative.
+/// Seed 003 eqs. (77)–(81) with v₀ = 0: x(t) = A e^{−ct/2m} sin(ωt + φ), and
+/// its derivative; the study crate's reference oscillator has the same k, m, x₀, c.
 fn exact(t: f64) -> (f64, f64) {
-    let w = (4.0 * M * K - C * C).sqrt() / (2.0 * M); // (77)
-    let b = C * X0 / (2.0 * M * w); // (78), v₀ = 0
-    let a = (X0 * X0 + b * b).sqrt(); // (79)
-    let phi = X0.atan2(b); // (80)
-    let s = C / (2.0 * M);
-    let e = (-s * t).exp();
-    let x = a * e * (w * t + phi).sin(); // (81)
-    let v = a * e * (w * (w * t + phi).cos() - s * (w * t + phi).sin());
-    (x, v)
+    let r = study::reference::Oscillator::damped();
+    assert_eq!((r.k, r.m, r.x0, r.c), (K, M, X0, C), "the same oscillator");
+    r.exact(t)
 }
 
 /// The oscillator as a spring-mass model: a fixed node at the origin, the mass

@@ -9,6 +9,7 @@ pub mod programs;
 pub mod progress;
 pub mod run;
 pub mod schedule;
+pub mod study;
 pub mod supervise;
 
 use crate::protocol::Role;

@@ -1,0 +1,11 @@
+//! study: canopy's integrators compared by error against CPU time, the
+//! comparison of seed 003 §2.4–§2.5 done with exact solutions and measured
+//! orders. `coupler study accuracy` runs [`accuracy::sweep`] and writes what
+//! [`report`] and [`plot`] make of it.
+
+pub mod accuracy;
+pub mod cpu;
+pub mod elliptic;
+pub mod plot;
+pub mod reference;
+pub mod report;
