@@ -34,7 +34,7 @@ pub fn all() -> Vec<Box<dyn Reference>> {
         Box::new(Oscillator::damped()),
         Box::new(Oscillator::undamped()),
         Box::new(Pendulum::default()),
-        Box::new(SpringPendulum),
+        Box::new(SpringPendulum::new()),
     ]
 }
 
@@ -218,7 +218,12 @@ impl Reference for Pendulum {
 /// `scenarios/spring-pendulum.toml` sets it: a 1 kg bob between anchors at
 /// y = ±1 m on two springs of K = 100 N/m and rest length 0.8 m, released from
 /// rest at (0.3, 0.2) m. With no damping its energy is conserved.
-pub struct SpringPendulum;
+pub struct SpringPendulum {
+    /// The model at t = 0.
+    model: Model,
+    /// Its energy E₀ [J].
+    e0: f64,
+}
 
 /// A spring-mass [`Model`] that owns its loads, so it can be boxed as a [`System`].
 struct Owned(Model);
@@ -250,7 +255,19 @@ impl Owned {
     }
 }
 
+impl Default for SpringPendulum {
+    fn default() -> Self {
+        SpringPendulum::new()
+    }
+}
+
 impl SpringPendulum {
+    pub fn new() -> SpringPendulum {
+        let model = Self::model();
+        let e0 = Self::energy(&model, &model.x, &model.v);
+        SpringPendulum { model, e0 }
+    }
+
     fn model() -> Model {
         let spring = |i, j| Spring {
             i,
@@ -288,14 +305,12 @@ impl Reference for SpringPendulum {
         "largest |E − E₀|/E₀ over the samples: the energy of eq. (62) is conserved"
     }
     fn start(&self) -> (Box<dyn System>, Vec<f64>, Vec<f64>) {
-        let m = Self::model();
+        let m = self.model.clone();
         let (x, v) = (m.x.clone(), m.v.clone());
         (Box::new(Owned(m)), x, v)
     }
     fn error(&self, _t: f64, x: &[f64], v: &[f64]) -> f64 {
-        let m = Self::model();
-        let e0 = Self::energy(&m, &m.x, &m.v);
-        (Self::energy(&m, x, v) / e0 - 1.0).abs()
+        (Self::energy(&self.model, x, v) / self.e0 - 1.0).abs()
     }
 }
 
