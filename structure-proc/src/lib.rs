@@ -19,6 +19,7 @@ pub mod output;
 pub mod parachute;
 pub mod rectangle;
 pub mod rings;
+pub mod stability;
 pub mod system;
 
 pub use build::build_model;

@@ -9,3 +9,4 @@ pub mod elliptic;
 pub mod plot;
 pub mod reference;
 pub mod report;
+pub mod stability;

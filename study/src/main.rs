@@ -3,8 +3,8 @@
 
 use clap::{Args, Parser, Subcommand};
 use coupler::scenario::structure::Integrator;
-use std::path::PathBuf;
-use study::{accuracy, plot, reference, report};
+use std::path::{Path, PathBuf};
+use study::{accuracy, plot, reference, report, stability};
 
 /// Exit code for bad input, as the coupler's.
 const EXIT_BAD_INPUT: i32 = 2;
@@ -26,6 +26,39 @@ enum What {
     /// an exact solution: CSV, work-precision plot (PNG, SVG) and a Markdown
     /// table of measured orders and the CPU time to reach an error.
     Accuracy(AccuracyArgs),
+    /// Every integrator over a grid of spring stiffness and time step on a
+    /// linear spring chain: a stable/unstable map (CSV, PNG, SVG) with the
+    /// theoretical limits over it, and a Markdown table of the largest stable
+    /// step measured against the predicted one.
+    Stability(StabilityArgs),
+}
+
+#[derive(Args)]
+struct StabilityArgs {
+    /// Integrators to compare, comma-separated scenario names (default: all).
+    #[arg(long, value_delimiter = ',')]
+    integrators: Vec<String>,
+    /// Smallest spring stiffness [N/m].
+    #[arg(long, default_value_t = 1.0)]
+    k_min: f64,
+    /// Largest spring stiffness [N/m].
+    #[arg(long, default_value_t = 1e6)]
+    k_max: f64,
+    /// Stiffness values, log-spaced.
+    #[arg(long, default_value_t = 13)]
+    k_count: usize,
+    /// Smallest time step [s].
+    #[arg(long, default_value_t = 1e-6)]
+    dt_min: f64,
+    /// Largest time step [s].
+    #[arg(long, default_value_t = 1.0)]
+    dt_max: f64,
+    /// Time steps, log-spaced.
+    #[arg(long, default_value_t = 25)]
+    dt_count: usize,
+    /// Study directory.
+    #[arg(long, default_value = "studies/stability")]
+    out: PathBuf,
 }
 
 #[derive(Args)]
@@ -54,6 +87,7 @@ fn main() {
     let cli = Cli::parse();
     let code = match cli.what {
         What::Accuracy(a) => accuracy_study(a),
+        What::Stability(a) => stability_study(a),
     };
     std::process::exit(code);
 }
@@ -61,6 +95,37 @@ fn main() {
 fn bad_input(msg: String) -> i32 {
     eprintln!("error: {msg}");
     EXIT_BAD_INPUT
+}
+
+/// The integrators `names` call for; all when empty. Err: the exit code.
+fn integrators(names: &[String]) -> Result<Vec<Integrator>, i32> {
+    let mut out = Vec::new();
+    for name in names {
+        match Integrator::ALL.iter().find(|i| i.name() == name) {
+            Some(i) => out.push(*i),
+            None => {
+                let all: Vec<&str> = Integrator::ALL.iter().map(|i| i.name()).collect();
+                return Err(bad_input(format!(
+                    "--integrators: no integrator is called `{name}` (choose from {})",
+                    all.join(", ")
+                )));
+            }
+        }
+    }
+    if out.is_empty() {
+        out = Integrator::ALL.to_vec();
+    }
+    Ok(out)
+}
+
+/// Create the study directory `out`. Err: the exit code.
+fn study_dir(out: &Path) -> Result<(), i32> {
+    std::fs::create_dir_all(out).map_err(|e| {
+        bad_input(format!(
+            "cannot create the study directory {}: {e}",
+            out.display()
+        ))
+    })
 }
 
 fn accuracy_study(a: AccuracyArgs) -> i32 {
@@ -72,22 +137,10 @@ fn accuracy_study(a: AccuracyArgs) -> i32 {
             names.join(", ")
         ));
     };
-    let mut integrators = Vec::new();
-    for name in &a.integrators {
-        match Integrator::ALL.iter().find(|i| i.name() == name) {
-            Some(i) => integrators.push(*i),
-            None => {
-                let names: Vec<&str> = Integrator::ALL.iter().map(|i| i.name()).collect();
-                return bad_input(format!(
-                    "--integrators: no integrator is called `{name}` (choose from {})",
-                    names.join(", ")
-                ));
-            }
-        }
-    }
-    if integrators.is_empty() {
-        integrators = Integrator::ALL.to_vec();
-    }
+    let integrators = match integrators(&a.integrators) {
+        Ok(i) => i,
+        Err(code) => return code,
+    };
     let per_sample = system.sample_interval() / a.dt_max;
     if !(a.dt_max > 0.0
         && per_sample >= 1.0 - 1e-9
@@ -108,11 +161,8 @@ fn accuracy_study(a: AccuracyArgs) -> i32 {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from(format!("studies/accuracy-{}", system.name())));
-    if let Err(e) = std::fs::create_dir_all(&out) {
-        return bad_input(format!(
-            "cannot create the study directory {}: {e}",
-            out.display()
-        ));
+    if let Err(code) = study_dir(&out) {
+        return code;
     }
     let steps = accuracy::ladder(a.dt_max, a.levels);
     eprintln!(
@@ -152,6 +202,75 @@ fn accuracy_study(a: AccuracyArgs) -> i32 {
     println!("{table}");
     println!(
         "wrote {0}/accuracy.csv, {0}/accuracy.md, {0}/work-precision.png and .svg",
+        out.display()
+    );
+    0
+}
+
+fn stability_study(a: StabilityArgs) -> i32 {
+    let integrators = match integrators(&a.integrators) {
+        Ok(i) => i,
+        Err(code) => return code,
+    };
+    let range = |name: &str, lo: f64, hi: f64, count: usize| {
+        if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
+            Err(bad_input(format!(
+                "--{name}-min {lo}, --{name}-max {hi}: need 0 < min ≤ max < ∞"
+            )))
+        } else if !(1..=200).contains(&count) {
+            Err(bad_input(format!(
+                "--{name}-count {count}: must lie in 1..=200"
+            )))
+        } else {
+            Ok(stability::log_grid(lo, hi, count))
+        }
+    };
+    let (ks, dts) = match (
+        range("k", a.k_min, a.k_max, a.k_count),
+        range("dt", a.dt_min, a.dt_max, a.dt_count),
+    ) {
+        (Ok(k), Ok(d)) => (k, d),
+        (Err(code), _) | (_, Err(code)) => return code,
+    };
+    if let Err(code) = study_dir(&a.out) {
+        return code;
+    }
+    let chain = stability::Chain::default();
+    eprintln!(
+        "study stability: {} integrators × {} stiffnesses × {} steps",
+        integrators.len(),
+        ks.len(),
+        dts.len()
+    );
+    let cells = stability::map(&chain, &integrators, &ks, &dts, |i, mine| {
+        let stable = mine
+            .iter()
+            .filter(|c| matches!(c.outcome, stability::Outcome::Stable(_)))
+            .count();
+        eprintln!("  {:<30} {stable} of {} cells stable", i.name(), mine.len());
+    });
+    let limits = stability::limits(&chain, &cells);
+    let table = report::stability_markdown(&chain, &limits, &ks, &dts);
+    let out = &a.out;
+    let written = std::fs::write(out.join("stability.csv"), report::stability_csv(&cells))
+        .and_then(|_| std::fs::write(out.join("stability.md"), &table));
+    if let Err(e) = written {
+        eprintln!("error: cannot write into {}: {e}", out.display());
+        return 1;
+    }
+    if let Err(e) = plot::stability_map(
+        &chain,
+        &cells,
+        &limits,
+        &out.join("stability-map.png"),
+        &out.join("stability-map.svg"),
+    ) {
+        eprintln!("error: cannot draw the stability map: {e}");
+        return 1;
+    }
+    println!("{table}");
+    println!(
+        "wrote {0}/stability.csv, {0}/stability.md, {0}/stability-map.png and .svg",
         out.display()
     );
     0

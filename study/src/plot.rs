@@ -1,7 +1,8 @@
-//! The work-precision plot: error against CPU time on log–log axes, one
-//! curve per integrator, as PNG and SVG.
+//! The plots, as PNG and SVG: the work-precision plot (error against CPU
+//! time on log–log axes, one curve per integrator) and the stability map.
 
 use crate::accuracy::{Run, Status};
+use crate::stability::{predicted_omega_h, Cell, Chain, Limit, Outcome};
 use coupler::scenario::structure::Integrator;
 use plotters::prelude::*;
 use std::path::Path;
@@ -124,6 +125,140 @@ where
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()?;
+    area.present()?;
+    Ok(())
+}
+
+/// Colours of the stability map's cells: stable, unstable, failed.
+const STABLE: RGBColor = RGBColor(171, 221, 164);
+const UNSTABLE: RGBColor = RGBColor(244, 165, 130);
+const FAILED: RGBColor = RGBColor(200, 200, 200);
+
+/// The stability map, one panel per integrator: stiffness k across, step h
+/// up, each cell coloured by its outcome, with the predicted limit
+/// y*/ω_max (black), the seed's ω_max·h = 0.1 (blue, dashed) and the
+/// bisected limit (dots) over it.
+pub fn stability_map(
+    chain: &Chain,
+    cells: &[Cell],
+    limits: &[Limit],
+    png: &Path,
+    svg: &Path,
+) -> Result<(), Error> {
+    register_font();
+    let mut integrators: Vec<Integrator> = Vec::new();
+    for c in cells {
+        if !integrators.contains(&c.integrator) {
+            integrators.push(c.integrator);
+        }
+    }
+    let cols = integrators.len().clamp(1, 4);
+    let rows = integrators.len().div_ceil(cols).max(1);
+    let size = (380 * cols as u32, 340 * rows as u32 + 70);
+    let grid = (rows, cols);
+    let png = BitMapBackend::new(png, size).into_drawing_area();
+    draw_map(chain, cells, limits, &integrators, grid, png)?;
+    let svg = SVGBackend::new(svg, size).into_drawing_area();
+    draw_map(chain, cells, limits, &integrators, grid, svg)?;
+    Ok(())
+}
+
+/// Sorted distinct values of `v`.
+fn distinct(v: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut out: Vec<f64> = v.collect();
+    out.sort_by(f64::total_cmp);
+    out.dedup();
+    out
+}
+
+/// Half a grid spacing in log, as a factor (1.5 for a single value).
+fn half_step(grid: &[f64]) -> f64 {
+    if grid.len() < 2 {
+        1.5
+    } else {
+        (grid[1] / grid[0]).sqrt()
+    }
+}
+
+fn draw_map<B: DrawingBackend>(
+    chain: &Chain,
+    cells: &[Cell],
+    limits: &[Limit],
+    integrators: &[Integrator],
+    (rows, cols): (usize, usize),
+    area: DrawingArea<B, plotters::coord::Shift>,
+) -> Result<(), Error>
+where
+    B::ErrorType: 'static,
+{
+    area.fill(&WHITE)?;
+    let (head, body) = area.split_vertically(70);
+    head.titled(
+        "Stability on a linear spring chain",
+        (FONT, 22),
+    )?
+    .draw_text(
+        &format!(
+            "green: stable; red: unstable (non-finite, or energy > {} E0 after {} steps); grey: Newton failed; black line: predicted limit y*/w_max; blue dashed: seed 000 w_max h = 0.1; dots: bisected limit",
+            crate::stability::GROWTH,
+            crate::stability::STEPS
+        ),
+        &(FONT, 13).into_text_style(&head),
+        (10, 8),
+    )?;
+    let ks = distinct(cells.iter().map(|c| c.k));
+    let dts = distinct(cells.iter().map(|c| c.dt));
+    let (fk, fd) = (half_step(&ks), half_step(&dts));
+    let k_range = ks[0] / fk..ks[ks.len() - 1] * fk;
+    let dt_range = dts[0] / fd..dts[dts.len() - 1] * fd;
+    for (panel, i) in body.split_evenly((rows, cols)).iter().zip(integrators) {
+        let mut chart = ChartBuilder::on(panel)
+            .caption(i.name(), (FONT, 17))
+            .margin(8)
+            .x_label_area_size(36)
+            .y_label_area_size(56)
+            .build_cartesian_2d(k_range.clone().log_scale(), dt_range.clone().log_scale())?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc("k [N/m]")
+            .y_desc("h [s]")
+            .label_style((FONT, 12))
+            .axis_desc_style((FONT, 13))
+            .x_label_formatter(&|v| format!("{v:.0e}"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()?;
+        chart.draw_series(cells.iter().filter(|c| c.integrator == *i).map(|c| {
+            let colour = match c.outcome {
+                Outcome::Stable(_) => STABLE,
+                Outcome::Unstable { .. } => UNSTABLE,
+                Outcome::Failed(_) => FAILED,
+            };
+            Rectangle::new(
+                [(c.k / fk, c.dt / fd), (c.k * fk, c.dt * fd)],
+                colour.filled(),
+            )
+        }))?;
+        let line = |y: f64| -> Vec<(f64, f64)> {
+            ks.iter().map(|&k| (k, y / chain.omega_max(k))).collect()
+        };
+        chart.draw_series(DashedLineSeries::new(
+            line(structure_proc::stability::SEED_OMEGA_H),
+            6,
+            4,
+            RGBColor(0, 90, 200).stroke_width(2),
+        ))?;
+        if let Some(y) = predicted_omega_h(*i) {
+            chart.draw_series(LineSeries::new(line(y), BLACK.stroke_width(2)))?;
+        }
+        chart.draw_series(
+            limits
+                .iter()
+                .filter(|l| l.integrator == *i)
+                .filter_map(|l| Some((l.k, l.measured.filter(|h| *h > 0.0)?)))
+                .map(|p| Circle::new(p, 3, BLACK.filled())),
+        )?;
+    }
     area.present()?;
     Ok(())
 }

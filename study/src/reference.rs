@@ -226,7 +226,7 @@ pub struct SpringPendulum {
 }
 
 /// A spring-mass [`Model`] that owns its loads, so it can be boxed as a [`System`].
-struct Owned(Model);
+pub(crate) struct Owned(pub Model);
 
 impl System for Owned {
     fn nodes(&self) -> usize {
@@ -264,7 +264,7 @@ impl Default for SpringPendulum {
 impl SpringPendulum {
     pub fn new() -> SpringPendulum {
         let model = Self::model();
-        let e0 = Self::energy(&model, &model.x, &model.v);
+        let e0 = mechanical_energy(&model, &model.x, &model.v);
         SpringPendulum { model, e0 }
     }
 
@@ -288,13 +288,14 @@ impl SpringPendulum {
         m.prepare();
         m
     }
+}
 
-    fn energy(m: &Model, x: &[f64], v: &[f64]) -> f64 {
-        let kinetic: f64 = (0..m.nodes())
-            .map(|n| 0.5 * m.mass[n] * (0..3).map(|c| v[3 * n + c].powi(2)).sum::<f64>())
-            .sum();
-        kinetic + elastic_energy(m, x)
-    }
+/// Kinetic plus elastic energy [J] of `m` at the state (x, v).
+pub(crate) fn mechanical_energy(m: &Model, x: &[f64], v: &[f64]) -> f64 {
+    let kinetic: f64 = (0..m.nodes())
+        .map(|n| 0.5 * m.mass[n] * (0..3).map(|c| v[3 * n + c].powi(2)).sum::<f64>())
+        .sum();
+    kinetic + elastic_energy(m, x)
 }
 
 impl Reference for SpringPendulum {
@@ -310,7 +311,7 @@ impl Reference for SpringPendulum {
         (Box::new(Owned(m)), x, v)
     }
     fn error(&self, _t: f64, x: &[f64], v: &[f64]) -> f64 {
-        (Self::energy(&self.model, x, v) / self.e0 - 1.0).abs()
+        (mechanical_energy(&self.model, x, v) / self.e0 - 1.0).abs()
     }
 }
 

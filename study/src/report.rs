@@ -1,9 +1,12 @@
 //! The sweep as files: a CSV of every run and a Markdown table of what each
 //! integrator achieved.
 
-use crate::accuracy::{Run, Summary, FIT_POINTS, FIT_RANGE};
+use crate::accuracy::{scheme, Run, Summary, FIT_POINTS, FIT_RANGE};
 use crate::reference::Reference;
+use crate::stability::{predicted_omega_h, Cell, Chain, Limit, Outcome, BISECTIONS, GROWTH, STEPS};
+use coupler::scenario::structure::Integrator;
 use std::fmt::Write;
+use structure_proc::stability::{self, Interval};
 
 /// One line per run: integrator, dt, error, CPU seconds, steps, status.
 pub fn csv(runs: &[Run]) -> String {
@@ -56,6 +59,104 @@ pub fn markdown(r: &dyn Reference, summaries: &[Summary], steps: &[f64], target:
             m.fitted,
             or_dash(m.cpu_to_target, |c| format!("{c:.3e}")),
             or_dash(m.largest_stable_dt, |d| format!("{d:e}")),
+        );
+    }
+    s
+}
+
+/// One line per cell of the stability map.
+pub fn stability_csv(cells: &[Cell]) -> String {
+    let mut s = String::from("integrator,k,dt,omega_max_h,outcome,energy_ratio\n");
+    for c in cells {
+        let ratio = match c.outcome {
+            Outcome::Stable(r) | Outcome::Unstable { ratio: r, .. } => format!("{r:e}"),
+            Outcome::Failed(_) => String::new(),
+        };
+        let _ = writeln!(
+            s,
+            "{},{:e},{:e},{:e},{},{}",
+            c.integrator.name(),
+            c.k,
+            c.dt,
+            c.omega_h,
+            c.outcome.label().replace(',', ";"),
+            ratio
+        );
+    }
+    s
+}
+
+/// The Markdown report of the stability sweep: the rule, then per integrator
+/// its interval, the predicted and measured ω_max·h at the limit, and the
+/// largest deviation of the measured step from the predicted one.
+pub fn stability_markdown(chain: &Chain, limits: &[Limit], ks: &[f64], dts: &[f64]) -> String {
+    let mut s = String::from("# Stability study: linear spring chain\n\n");
+    let _ = writeln!(
+        s,
+        "- Network: a fixed–fixed chain of {} free nodes of {} kg on springs of rest length {} m, started in its highest mode (axial motion, so the forces are linear).\n- ω_max: the bound of seed 000 eq. (3.7), √(2Mk/m) with M = 2 neighbours; the chain's exact highest frequency is {:.4} of it.\n- Rule: unstable when a value turns non-finite, or the energy after {STEPS} steps exceeds {GROWTH} × E₀.\n- Grid: k from {:e} to {:e} N/m ({} values), h from {:e} to {:e} s ({} values); the limit is refined by {BISECTIONS} bisections.\n- Prediction: h* = y*/ω_max with y* the end of the scheme's stability interval; schemes with an empty interval (energy grows at every h) are predicted where their amplification |R(iy)|^(2·{STEPS}) reaches {GROWTH}.\n",
+        chain.free,
+        chain.mass,
+        chain.spacing,
+        chain.exact_omega_max(1.0) / chain.omega_max(1.0),
+        ks[0],
+        ks[ks.len() - 1],
+        ks.len(),
+        dts[0],
+        dts[dts.len() - 1],
+        dts.len(),
+    );
+    let _ = writeln!(
+        s,
+        "| integrator | stability interval | predicted ω_max·h | measured ω_max·h (over k) | largest deviation |\n|---|---|---|---|---|"
+    );
+    let mut done: Vec<Integrator> = Vec::new();
+    for l in limits {
+        if done.contains(&l.integrator) {
+            continue;
+        }
+        done.push(l.integrator);
+        let mine: Vec<&Limit> = limits
+            .iter()
+            .filter(|m| m.integrator == l.integrator)
+            .collect();
+        let interval = match stability::interval(scheme(l.integrator)) {
+            Interval::Unconditional => "unconditional".to_string(),
+            Interval::Bounded(y) => format!("ω·h ≤ {y:.4}"),
+            Interval::Empty => "empty".to_string(),
+        };
+        let y: Vec<f64> = mine
+            .iter()
+            .filter_map(|m| m.measured.map(|h| h * m.omega_max))
+            .collect();
+        let measured = if mine.iter().all(|m| m.measured.is_none()) {
+            "stable on the whole grid".to_string()
+        } else if y.len() < mine.len() {
+            format!(
+                "{:.4}–{:.4}, stable on the whole grid at {} of {} k",
+                y.iter().copied().fold(f64::MAX, f64::min),
+                y.iter().copied().fold(f64::MIN, f64::max),
+                mine.len() - y.len(),
+                mine.len()
+            )
+        } else {
+            format!(
+                "{:.4}–{:.4}",
+                y.iter().copied().fold(f64::MAX, f64::min),
+                y.iter().copied().fold(f64::MIN, f64::max)
+            )
+        };
+        let deviation = mine
+            .iter()
+            .filter_map(|m| Some((m.measured? / m.predicted? - 1.0).abs()))
+            .reduce(f64::max);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            l.integrator.name(),
+            interval,
+            or_dash(predicted_omega_h(l.integrator), |y| format!("{y:.4}")),
+            measured,
+            or_dash(deviation, |d| format!("{:.1} %", 100.0 * d)),
         );
     }
     s

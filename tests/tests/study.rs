@@ -1,37 +1,53 @@
-//! `coupler study accuracy` from the command line, as a user runs it: it
-//! hands over to the `study` executable and leaves a CSV, a Markdown table and
-//! the work-precision plot as PNG and SVG. The undamped oscillator's exact
-//! solution is x₀·cos(ω₀t) (seed 003 appendix A with c = 0).
+//! `coupler study accuracy` and `coupler study stability` from the command
+//! line, as a user runs them: they hand over to the `study` executable and
+//! leave a CSV, a Markdown table and a plot as PNG and SVG. The undamped
+//! oscillator's exact solution is x₀·cos(ω₀t) (seed 003 appendix A with c = 0).
 
 use canopy_tests::*;
+use std::path::{Path, PathBuf};
 
-#[test]
-fn accuracy_study_writes_csv_table_and_plots() {
-    let dir = scratch("study");
-    let out = dir.join("osc");
-    let o = coupler(&[
-        "study",
-        "accuracy",
-        "--system",
-        "oscillator",
-        "--integrators",
-        "rk4,velocity-verlet",
-        "--levels",
-        "6",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+/// Run `coupler study <args> --out <scratch>/<name>`, which must succeed, and
+/// return the study directory and the rows of its `csv` file.
+fn study(name: &str, args: &[&str], csv: &str) -> (PathBuf, Vec<Vec<String>>) {
+    let out = scratch(name).join("out");
+    let mut all: Vec<&str> = vec!["study"];
+    all.extend(args);
+    all.extend(["--out", out.to_str().unwrap()]);
+    let o = coupler(&all);
     assert!(
         o.status.success(),
         "study failed:\n{}",
         String::from_utf8_lossy(&o.stderr)
     );
-    let csv = std::fs::read_to_string(out.join("accuracy.csv")).unwrap();
-    let rows: Vec<Vec<&str>> = csv
+    let rows = read_rows(&out.join(csv));
+    (out, rows)
+}
+
+/// The rows of a CSV file after its header, split at commas.
+fn read_rows(path: &Path) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path)
+        .unwrap()
         .lines()
         .skip(1)
-        .map(|l| l.split(',').collect())
-        .collect();
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect()
+}
+
+#[test]
+fn accuracy_study_writes_csv_table_and_plots() {
+    let (out, rows) = study(
+        "study-accuracy",
+        &[
+            "accuracy",
+            "--system",
+            "oscillator",
+            "--integrators",
+            "rk4,velocity-verlet",
+            "--levels",
+            "6",
+        ],
+        "accuracy.csv",
+    );
     assert_eq!(rows.len(), 12, "2 integrators × 6 steps");
     // Halving the step divides RK4's error by 2⁴ and Verlet's by 2², within 10 %.
     for (name, order) in [("rk4", 4), ("velocity-verlet", 2)] {
@@ -61,4 +77,52 @@ fn an_unknown_integrator_is_bad_input() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("no integrator is called `leapfrog`"), "{err}");
+}
+
+#[test]
+fn stability_study_writes_the_map_and_finds_the_verlet_limit() {
+    let (out, rows) = study(
+        "study-stability",
+        &[
+            "stability",
+            "--integrators",
+            "velocity-verlet,backward-euler",
+            "--k-count",
+            "2",
+            "--dt-min",
+            "1.3e-6",
+            "--dt-count",
+            "10",
+        ],
+        "stability.csv",
+    );
+    assert_eq!(rows.len(), 2 * 2 * 10, "2 integrators × 2 k × 10 steps");
+    // Velocity Verlet is stable exactly where ω_max·h ≤ 2 (ω_max of seed 000
+    // eq. 3.7 is within 1.3 % of the chain's exact one); the nearest cells of
+    // this grid lie at ω_max·h = 1.2 and 2.6. Backward Euler is stable everywhere.
+    for r in &rows {
+        let omega_h: f64 = r[3].parse().unwrap();
+        let stable = r[4] == "stable";
+        match r[0].as_str() {
+            "velocity-verlet" => assert_eq!(stable, omega_h < 2.0, "{r:?}"),
+            _ => assert!(stable, "{r:?}"),
+        }
+    }
+    let table = std::fs::read_to_string(out.join("stability.md")).unwrap();
+    assert!(
+        table.contains("| velocity-verlet | ω·h ≤ 2.0000 | 2.0000 |"),
+        "{table}"
+    );
+    let png = std::fs::read(out.join("stability-map.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let svg = std::fs::read_to_string(out.join("stability-map.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("backward-euler"));
+}
+
+#[test]
+fn a_zero_stiffness_is_bad_input() {
+    let o = coupler(&["study", "stability", "--k-min", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--k-min 0"), "{err}");
 }

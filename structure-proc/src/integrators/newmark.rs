@@ -64,7 +64,16 @@ impl Integrator for Newmark {
             w: 1.0 + alpha,
             extra: (alpha != 0.0).then_some(&extra[..]),
         };
-        // a_n, already folded into x̂ and v̂, is the initial guess for a_{n+1}.
+        // Newton starts from x_{n+1} = x_n. Extrapolating (from a_n, or x + h·v)
+        // is closer on the slow modes but lands ω·h (or ω²h²/2) amplitudes away
+        // on a stiff mode with ω·h ≫ 1, where springs can invert and Newton
+        // converges to a spurious root; from x_n every mode starts within the
+        // distance it actually moves in a step.
+        if beta > 0.0 {
+            for d in 0..n {
+                self.a[d] = (x[d] - xhat[d]) / (beta * h * h);
+            }
+        }
         self.newton.solve(sys, h, &target, &mut self.a)?;
         x.copy_from_slice(&self.newton.x);
         v.copy_from_slice(&self.newton.v);
