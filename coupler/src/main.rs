@@ -24,7 +24,7 @@ enum Cmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// Check a scenario without running anything.
+    /// Check a scenario without running it, and estimate its stable structure step.
     Check { scenario: PathBuf },
     /// Benchmarks that print a table.
     Bench {

@@ -5,12 +5,14 @@
 //! lines, sends back impulses, canopy state and monitors, and writes output.
 //! The physics stays in the stepper; the IPC stays here and in `coupler`.
 
+use crate::divergence::Watch;
 use crate::forces::Loads;
 use crate::integrators::{Integrator, StepError};
 use crate::output::Output;
+use crate::stability::{omega_max, OMEGA_MAX_FLAG, OMEGA_MAX_MONITOR};
 use crate::{build_model, Model, NodeKind};
 use coupler::scenario::structure::StructureSection;
-use coupler::{Command, Field, Monitor, Participant, Role};
+use coupler::{Command, Field, Monitor, Participant, Role, Scenario};
 
 pub type Error = Box<dyn std::error::Error>;
 
@@ -51,20 +53,55 @@ impl Stepper for Scheme {
 }
 
 /// Run `run` and exit: status 1 with the message on stderr if it failed.
+/// Called as `program --omega-max SCENARIO` instead, print the model's ω_max
+/// for `coupler check` and exit.
 pub fn main<S: Stepper>(
     program: &str,
     make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
 ) {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let [flag, path] = args.as_slice() {
+        if flag == OMEGA_MAX_FLAG {
+            match omega_max_of(std::path::Path::new(path)) {
+                Ok(w) => println!("omega_max {w:e}"),
+                Err(e) => {
+                    eprintln!("{program}: {e}");
+                    std::process::exit(2);
+                }
+            }
+            return;
+        }
+    }
     if let Err(e) = run(make) {
         eprintln!("{program}: {e}");
         std::process::exit(1);
     }
 }
 
-fn monitors(m: &Model) -> Vec<Monitor> {
+/// The ω_max bound (seed 000 eq. 3.7) of the model the scenario at `path` builds.
+fn omega_max_of(path: &std::path::Path) -> Result<f64, Error> {
+    let scenario = Scenario::load(path)?;
+    let section = scenario
+        .structure
+        .as_ref()
+        .ok_or("the scenario has no [structure] section")?;
+    let m = build_model(section, scenario.rigid.as_ref(), structure_dt(&scenario))?;
+    Ok(omega_max(&m.inv_mass, &m.couplings))
+}
+
+/// Δt_s = Δt_f / n_s.
+fn structure_dt(s: &Scenario) -> f64 {
+    s.coupling.window / s.coupling.structure_substeps as f64
+}
+
+/// What the structure reports at every window end: energies, its ω_max
+/// bound (constant, for the coupler's stability estimate), the canopy's
+/// deflection and the named points.
+fn monitors(m: &Model, omega_max: f64) -> Vec<Monitor> {
     let mut v = vec![
         Monitor::new("kinetic_energy", m.kinetic_energy()),
         Monitor::new("potential_energy", m.potential_energy()),
+        Monitor::new(OMEGA_MAX_MONITOR, omega_max),
     ];
     if m.canopy_nodes > 0 {
         v.push(Monitor::new("centre_deflection", m.centre_deflection()));
@@ -115,8 +152,9 @@ pub fn run<S: Stepper>(
         .structure
         .as_ref()
         .ok_or("the scenario has no [structure] section")?;
-    let dt = scenario.coupling.window / scenario.coupling.structure_substeps as f64;
-    let mut m = build_model(section, scenario.rigid.as_ref(), dt)?;
+    let mut m = build_model(section, scenario.rigid.as_ref(), structure_dt(&scenario))?;
+    let omega_max = omega_max(&m.inv_mass, &m.couplings);
+    let mut watch = Watch::new(&m, &scenario);
     let mut stepper = make(section, &m)?;
     let mut output = Output::new(p.run_dir(), &m);
     let mut substeps = 0u64;
@@ -126,7 +164,7 @@ pub fn run<S: Stepper>(
         match p.next_command()? {
             Command::Initialize => {
                 publish_canopy(&mut p, &m, true)?;
-                p.done(monitors(&m))?;
+                p.done(monitors(&m, omega_max))?;
             }
             Command::Advance(step) => {
                 // The fluid publishes one pressure per window; impulse sub-steps
@@ -138,6 +176,10 @@ pub fn run<S: Stepper>(
                 if p.is_connected(Field::AttachmentState) {
                     let state = p.read_field(Field::AttachmentState)?;
                     m.set_attachments(&state);
+                    for a in &m.attachments {
+                        let speed = a.v0.iter().map(|c| c * c).sum::<f64>().sqrt();
+                        watch.raise(speed, "the fastest rigid body");
+                    }
                 }
                 let loads = Loads {
                     pressure: pressure.as_deref().unwrap_or(&[]),
@@ -157,9 +199,9 @@ pub fn run<S: Stepper>(
                 }
                 substeps += step.substeps as u64;
                 if failure.is_none() {
-                    if let Some((node, what)) = m.first_non_finite() {
+                    if let Some(why) = watch.check(&m) {
                         failure = Some(format!(
-                            "diverged at t = {:.6e} s: node {node} has a non-finite {what}",
+                            "diverged at t = {:.6e} s: {why}",
                             step.time + step.dt
                         ));
                     }
@@ -176,7 +218,7 @@ pub fn run<S: Stepper>(
                 })?;
                 if step.window_end {
                     publish_canopy(&mut p, &m, false)?;
-                    p.done(monitors(&m))?;
+                    p.done(monitors(&m, omega_max))?;
                 } else {
                     p.done(Vec::new())?;
                 }

@@ -10,6 +10,7 @@
 pub mod annulus;
 pub mod build;
 pub mod cross;
+pub mod divergence;
 pub mod driver;
 pub mod forces;
 pub mod integrators;

@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod control;
+pub mod estimate;
 pub mod monitors;
 pub mod programs;
 pub mod progress;
@@ -69,9 +70,9 @@ pub fn load_checked(path: &Path) -> Result<Checked, ScenarioError> {
     })
 }
 
-/// `coupler check`: validate without running anything.
+/// `coupler check`: validate without running, then estimate the stable structure step.
 pub fn check(path: &Path) -> i32 {
-    let checked = match load_checked(path) {
+    let mut checked = match load_checked(path) {
         Ok(c) => c,
         Err(e) => {
             eprintln!("error: {e}");
@@ -105,5 +106,6 @@ pub fn check(path: &Path) -> i32 {
             }
         }
     }
+    estimate::report(&mut checked);
     0
 }

@@ -80,3 +80,21 @@ pub fn build(package: &str, workspace: &Path, release: bool) -> Result<(), Strin
         Err(e) => Err(format!("cannot run cargo to build `{package}`: {e}")),
     }
 }
+
+/// Build `program` if it is a workspace package not built yet; then its path.
+pub fn ensure_built(program: &mut Program) -> Result<PathBuf, String> {
+    if let Program::Buildable {
+        package,
+        workspace,
+        release,
+        path,
+    } = program.clone()
+    {
+        build(&package, &workspace, release)?;
+        *program = Program::Found(path);
+    }
+    match program {
+        Program::Found(p) => Ok(p.clone()),
+        Program::Buildable { .. } => unreachable!("built above"),
+    }
+}

@@ -8,11 +8,12 @@ use super::progress::Progress;
 use super::supervise::{self, Child, Exit};
 use super::{schedule, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_RUN_FAILED};
 use crate::protocol::{Role, Setup};
+use crate::scenario::stability::{self, Estimate};
 use crate::{channel, names};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use tokio::sync::{mpsc, oneshot};
 
@@ -33,18 +34,9 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
         }
     };
     for (_, program) in &mut checked.programs {
-        if let Program::Buildable {
-            package,
-            workspace,
-            release,
-            path,
-        } = program.clone()
-        {
-            if let Err(e) = programs::build(&package, &workspace, release) {
-                eprintln!("error: {}: {e}", scenario_path.display());
-                return EXIT_BAD_INPUT;
-            }
-            *program = Program::Found(path);
+        if let Err(e) = programs::ensure_built(program) {
+            eprintln!("error: {}: {e}", scenario_path.display());
+            return EXIT_BAD_INPUT;
         }
     }
     // Timing starts after any first-run build of the solvers.
@@ -94,7 +86,7 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
             return EXIT_RUN_FAILED;
         }
     };
-    let (end, children) = runtime.block_on(supervise_run(&checked, &run_id, &run_dir));
+    let (end, children, estimate) = runtime.block_on(supervise_run(&checked, &run_id, &run_dir));
     channel::cleanup_dead_nodes();
 
     let (status, code) = match &end {
@@ -102,7 +94,9 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
         End::Failed(..) => ("failed", EXIT_RUN_FAILED),
         End::Interrupted => ("interrupted", EXIT_INTERRUPTED),
     };
-    let manifest = manifest(&checked, &run_id, &end, &children, status, started);
+    let manifest = manifest(
+        &checked, &run_id, &end, &children, estimate, status, started,
+    );
     let _ = std::fs::write(
         run_dir.join("manifest.json"),
         serde_json::to_string_pretty(&manifest).unwrap_or_default(),
@@ -145,16 +139,17 @@ async fn supervise_run(
     checked: &super::Checked,
     run_id: &str,
     run_dir: &Path,
-) -> (End, Vec<Child>) {
+) -> (End, Vec<Child>, Option<Estimate>) {
     let scenario = checked.scenario.clone();
     let roles = scenario.participants.roles();
     let abort = Arc::new(AtomicBool::new(false));
     let stopping = Arc::new(AtomicBool::new(false));
     let (ready_tx, ready_rx) = oneshot::channel::<Result<(), String>>();
     let (done_tx, mut done_rx) = oneshot::channel::<Result<schedule::Outcome, ControlError>>();
+    let estimate = Arc::new(Mutex::new(None));
 
     let thread = {
-        let (abort, stopping) = (abort.clone(), stopping.clone());
+        let (abort, stopping, estimate) = (abort.clone(), stopping.clone(), estimate.clone());
         let setup = Setup {
             run_id: run_id.to_string(),
             run_dir: run_dir.to_path_buf(),
@@ -191,6 +186,7 @@ async fn supervise_run(
                 &mut monitors,
                 &mut progress,
                 &stopping,
+                &estimate,
             );
             match &result {
                 Ok(o) => progress.finish(scenario.run.end_time, o.windows),
@@ -326,7 +322,8 @@ async fn supervise_run(
         c.drain().await;
     }
     let _ = tokio::task::spawn_blocking(move || thread.join()).await;
-    (end.unwrap_or(End::Interrupted), children)
+    let estimate = estimate.lock().ok().and_then(|e| *e);
+    (end.unwrap_or(End::Interrupted), children, estimate)
 }
 
 /// Record exits until every child that `which` selects has exited, or `within`
@@ -386,6 +383,7 @@ fn manifest(
     run_id: &str,
     end: &End,
     children: &[Child],
+    estimate: Option<Estimate>,
     status: &str,
     started: Instant,
 ) -> serde_json::Value {
@@ -433,9 +431,18 @@ fn manifest(
             "structure_substeps": s.coupling.structure_substeps,
             "impulse_substeps": s.coupling.impulse_substeps,
             "windows": s.windows(),
-            "integrator": s.structure.as_ref().map(|st| format!("{:?}", st.integrator)),
+            "integrator": s.structure.as_ref().map(|st| st.integrator.name()),
             "structure_dt_s": s.coupling.window / s.coupling.structure_substeps as f64,
         },
+        // From the ω_max the structure reported (seed 000 eq. 3.7): the largest
+        // stable step of the integrator and the sub-steps it needs.
+        "stability": estimate.map(|e| json!({
+            "omega_max": e.omega_max,
+            "interval": s.structure.as_ref().map(|st| format!("{:?}", stability::interval(st.scheme()))),
+            "stable_dt_s": e.stable_dt,
+            "n_s": e.n_s,
+            "n_s_seed": e.n_s_seed,
+        })),
         "coupler": {
             "wall_s": started.elapsed().as_secs_f64(),
             "cpu_s": crate::usage::cpu_seconds(),

@@ -7,9 +7,11 @@
 use super::control::{Control, ControlError};
 use super::monitors::Monitors;
 use super::progress::Progress;
-use crate::protocol::{Advance, Command, Role, Setup, Stats};
+use crate::protocol::{Advance, Command, Monitor, Role, Setup, Stats};
+use crate::scenario::stability::{self, Estimate};
 use crate::scenario::Scenario;
 use std::collections::BTreeMap;
+use std::sync::Mutex;
 use std::time::Duration;
 
 /// How long a freshly started participant may take to connect.
@@ -21,7 +23,8 @@ pub struct Outcome {
     pub coupler_send_s: f64,
 }
 
-/// Connect, set up and run every participant to the end time.
+/// Connect, set up and run every participant to the end time. `estimate`
+/// receives the structure's sub-step estimate once it reports its ω_max.
 pub fn run(
     ctl: &mut Control,
     scenario: &Scenario,
@@ -29,6 +32,7 @@ pub fn run(
     monitors: &mut Monitors,
     progress: &mut Progress,
     stopping: &std::sync::atomic::AtomicBool,
+    estimate: &Mutex<Option<Estimate>>,
 ) -> Result<Outcome, ControlError> {
     let roles = scenario.participants.roles();
     let timeout = Duration::from_secs_f64(scenario.coupling.timeout);
@@ -44,6 +48,11 @@ pub fn run(
     // Every field port exists now: initial values can be published.
     for &r in &roles {
         let m = ctl.call(r, &Command::Initialize, timeout)?;
+        if r == Role::Structure {
+            if let Ok(mut e) = estimate.lock() {
+                *e = structure_estimate(scenario, &m);
+            }
+        }
         monitors.update(r, m);
     }
     let t0 = scenario.run.start_time;
@@ -127,6 +136,27 @@ pub fn run(
         windows,
         coupler_send_s: ctl.send_s,
     })
+}
+
+/// The sub-step estimate from the ω_max the structure reported, if it did;
+/// a warning on stderr when the scenario's sub-steps are too few.
+fn structure_estimate(scenario: &Scenario, reported: &[Monitor]) -> Option<Estimate> {
+    let section = scenario.structure.as_ref()?;
+    let omega_max = reported
+        .iter()
+        .find(|m| m.name == stability::OMEGA_MAX_MONITOR)?
+        .value;
+    let c = &scenario.coupling;
+    let est = stability::estimate(omega_max, c.window, section.scheme());
+    if let Some(w) = stability::warning(
+        &est,
+        c.window,
+        c.structure_substeps,
+        section.integrator.name(),
+    ) {
+        eprintln!("warning: {w}");
+    }
+    Some(est)
 }
 
 fn monitors_error(e: std::io::Error) -> ControlError {

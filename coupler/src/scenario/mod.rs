@@ -8,6 +8,7 @@ pub mod integrator;
 pub mod parachute;
 pub mod rigid;
 mod spans;
+pub mod stability;
 pub mod structure;
 
 pub use check::Checker;
