@@ -42,7 +42,10 @@ impl Status {
 #[derive(Debug, Clone)]
 pub struct Run {
     pub integrator: Integrator,
+    /// Time step [s]; for an adaptive scheme, its mean internal step.
     pub dt: f64,
+    /// An adaptive scheme's error tolerance; None for fixed steps.
+    pub tolerance: Option<f64>,
     /// Largest sampled error (see [`Reference::error_measure`]); NaN if none was sampled.
     pub error: f64,
     pub cpu_seconds: f64,
@@ -57,6 +60,7 @@ pub fn scheme(i: Integrator) -> Scheme {
         Default::default(),
         Default::default(),
         Default::default(),
+        Default::default(),
     )
 }
 
@@ -65,26 +69,52 @@ pub fn ladder(dt_max: f64, levels: u32) -> Vec<f64> {
     (0..levels).map(|l| dt_max / 2f64.powi(l as i32)).collect()
 }
 
-/// One run of `integrator` at step `dt` on `r`, without timing.
-fn run_once(r: &dyn Reference, integrator: Integrator, dt: f64) -> Run {
+/// Tolerances an adaptive scheme runs with, one per ladder level: from
+/// [`ADAPTIVE_TOLERANCES`].0 down to .1, log-spaced.
+pub const ADAPTIVE_TOLERANCES: (f64, f64) = (1e-2, 1e-12);
+
+/// What one level of the ladder runs: the scheme and the step it is given.
+/// A fixed-step scheme runs at `dt`; an adaptive one is handed the whole
+/// sampling interval and the level's tolerance, and chooses its own steps.
+fn level(r: &dyn Reference, i: Integrator, dt: f64, l: usize, levels: usize) -> (Scheme, f64) {
+    if !i.is_adaptive() {
+        return (scheme(i), dt);
+    }
+    let (hi, lo) = ADAPTIVE_TOLERANCES;
+    let s = if levels > 1 {
+        l as f64 / (levels - 1) as f64
+    } else {
+        0.0
+    };
+    let tolerance = hi * (lo / hi).powf(s);
+    (Scheme::DormandPrince { tolerance }, r.sample_interval())
+}
+
+/// One run of `integrator` as `scheme` with step `dt` on `r`, without timing.
+/// An adaptive scheme's `dt` and `steps` are its mean internal step and count.
+fn run_once(r: &dyn Reference, integrator: Integrator, scheme: Scheme, dt: f64) -> Run {
     let (sys, mut x, mut v) = r.start();
-    let mut stepper = structure_proc::integrator(scheme(integrator));
+    let mut stepper = structure_proc::integrator(scheme);
     let per_sample = (r.sample_interval() / dt).round().max(1.0) as u64;
     let samples = (r.end_time() / r.sample_interval()).round() as u64;
     let mut run = Run {
         integrator,
         dt,
+        tolerance: match scheme {
+            Scheme::DormandPrince { tolerance } => Some(tolerance),
+            _ => None,
+        },
         error: f64::NAN,
         cpu_seconds: 0.0,
         steps: 0,
         status: Status::Ok,
     };
     let mut worst: f64 = 0.0;
-    for s in 1..=samples {
+    'samples: for s in 1..=samples {
         for _ in 0..per_sample {
             if let Err(e) = stepper.step(sys.as_ref(), dt, &mut x, &mut v) {
                 run.status = Status::Failed(e.to_string());
-                return run;
+                break 'samples;
             }
             run.steps += 1;
         }
@@ -92,16 +122,21 @@ fn run_once(r: &dyn Reference, integrator: Integrator, dt: f64) -> Run {
         let e = r.error(t, &x, &v);
         if !e.is_finite() || e > DIVERGED_ERROR {
             run.status = Status::Diverged(t);
-            return run;
+            break;
         }
         worst = worst.max(e);
         run.error = worst;
     }
+    if let Some(n) = stepper.internal_steps() {
+        run.steps = n;
+        run.dt = r.end_time() / n.max(1) as f64;
+    }
     run
 }
 
-/// Every integrator of `integrators` at every step of `steps`, timed.
-/// `progress` hears of each run as it ends.
+/// Every integrator of `integrators` at every step of `steps` (an adaptive
+/// one at the matching tolerance of its ladder), timed. `progress` hears of
+/// each run as it ends.
 pub fn sweep(
     r: &dyn Reference,
     integrators: &[Integrator],
@@ -110,8 +145,9 @@ pub fn sweep(
 ) -> Vec<Run> {
     let mut runs = Vec::new();
     for &i in integrators {
-        for &dt in steps {
-            let (mut run, cpu) = cpu::timed(MIN_CPU_SECONDS, 1000, || run_once(r, i, dt));
+        for (l, &dt) in steps.iter().enumerate() {
+            let (scheme, dt) = level(r, i, dt, l, steps.len());
+            let (mut run, cpu) = cpu::timed(MIN_CPU_SECONDS, 1000, || run_once(r, i, scheme, dt));
             run.cpu_seconds = cpu;
             progress(&run);
             runs.push(run);

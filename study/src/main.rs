@@ -208,10 +208,21 @@ fn accuracy_study(a: AccuracyArgs) -> i32 {
 }
 
 fn stability_study(a: StabilityArgs) -> i32 {
-    let integrators = match integrators(&a.integrators) {
+    let mut integrators = match integrators(&a.integrators) {
         Ok(i) => i,
         Err(code) => return code,
     };
+    // An adaptive scheme takes internal steps until its error holds: stable
+    // at any outer step by construction, so the map says nothing about it.
+    if let Some(i) = integrators.iter().find(|i| i.is_adaptive()) {
+        if !a.integrators.is_empty() {
+            return bad_input(format!(
+                "--integrators: {} chooses its own steps, so it has no stability map",
+                i.name()
+            ));
+        }
+    }
+    integrators.retain(|i| !i.is_adaptive());
     let range = |name: &str, lo: f64, hi: f64, count: usize| {
         if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
             Err(bad_input(format!(

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::sync::Once;
 
 /// Dark, distinct line colours (Okabe–Ito and Tableau), one per integrator.
-const COLOURS: [RGBColor; 12] = [
+const COLOURS: [RGBColor; 13] = [
     RGBColor(0, 0, 0),
     RGBColor(230, 159, 0),
     RGBColor(86, 180, 233),
@@ -22,6 +22,7 @@ const COLOURS: [RGBColor; 12] = [
     RGBColor(214, 39, 40),
     RGBColor(127, 127, 127),
     RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
 ];
 
 /// Family name the embedded font is registered under.

@@ -1,26 +1,28 @@
 //! The sweep as files: a CSV of every run and a Markdown table of what each
 //! integrator achieved.
 
-use crate::accuracy::{scheme, Run, Summary, FIT_POINTS, FIT_RANGE};
+use crate::accuracy::{scheme, Run, Summary, ADAPTIVE_TOLERANCES, FIT_POINTS, FIT_RANGE};
 use crate::reference::Reference;
 use crate::stability::{predicted_omega_h, Cell, Chain, Limit, Outcome, BISECTIONS, GROWTH, STEPS};
 use coupler::scenario::structure::Integrator;
 use std::fmt::Write;
 use structure_proc::stability::{self, Interval};
 
-/// One line per run: integrator, dt, error, CPU seconds, steps, status.
+/// One line per run: integrator, dt, error, CPU seconds, steps, status, and
+/// an adaptive scheme's tolerance.
 pub fn csv(runs: &[Run]) -> String {
-    let mut s = String::from("integrator,dt,error,cpu_s,steps,status\n");
+    let mut s = String::from("integrator,dt,error,cpu_s,steps,status,tolerance\n");
     for r in runs {
         let _ = writeln!(
             s,
-            "{},{:e},{:e},{:e},{},{}",
+            "{},{:e},{:e},{:e},{},{},{}",
             r.integrator.name(),
             r.dt,
             r.error,
             r.cpu_seconds,
             r.steps,
-            r.status.label().replace(',', ";")
+            r.status.label().replace(',', ";"),
+            r.tolerance.map(|t| format!("{t:e}")).unwrap_or_default()
         );
     }
     s
@@ -36,12 +38,14 @@ pub fn markdown(r: &dyn Reference, summaries: &[Summary], steps: &[f64], target:
     let mut s = format!("# Accuracy study: {}\n\n", r.name());
     let _ = writeln!(
         s,
-        "- Error: {}.\n- {} s simulated, error sampled every {} s.\n- Steps: {:e} s down to {:e} s, halving.\n- Measured order: least-squares slope of ln(error) against ln(dt) over the {FIT_POINTS} smallest steps whose error lies in [{:e}, {:e}].\n- CPU time: seconds of process CPU time for one run, interpolated log–log to reach error ≤ {target:e}.\n",
+        "- Error: {}.\n- {} s simulated, error sampled every {} s.\n- Steps: {:e} s down to {:e} s, halving. An adaptive scheme (dormand-prince) instead runs one level per tolerance, from {:e} down to {:e}, log-spaced, handed the whole sampling interval; its dt is its mean internal step.\n- Measured order: least-squares slope of ln(error) against ln(dt) over the {FIT_POINTS} smallest steps whose error lies in [{:e}, {:e}].\n- CPU time: seconds of process CPU time for one run, interpolated log–log to reach error ≤ {target:e}.\n",
         r.error_measure(),
         r.end_time(),
         r.sample_interval(),
         steps.iter().copied().fold(f64::MIN, f64::max),
         steps.iter().copied().fold(f64::MAX, f64::min),
+        ADAPTIVE_TOLERANCES.0,
+        ADAPTIVE_TOLERANCES.1,
         FIT_RANGE.0,
         FIT_RANGE.1,
     );

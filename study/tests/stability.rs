@@ -15,9 +15,13 @@ fn explicit_limits_match_theory_and_unconditional_schemes_stay_stable() {
     let ks = [1e2, 1e5];
     // ω_max·h from 2e-4 to 200 at k = 1e2, from 6e-3 to 6e3 at k = 1e5.
     let dts = log_grid(1e-6, 1.0, 25);
-    let cells = stability::map(&chain, &Integrator::ALL, &ks, &dts, |_, _| {});
+    let fixed: Vec<Integrator> = Integrator::ALL
+        .into_iter()
+        .filter(|i| !i.is_adaptive())
+        .collect();
+    let cells = stability::map(&chain, &fixed, &ks, &dts, |_, _| {});
     let limits = stability::limits(&chain, &cells);
-    assert_eq!(limits.len(), Integrator::ALL.len() * ks.len());
+    assert_eq!(limits.len(), fixed.len() * ks.len());
     for l in &limits {
         let name = l.integrator.name();
         match interval(scheme(l.integrator)) {

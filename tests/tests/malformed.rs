@@ -354,6 +354,19 @@ const CASES: &[Case] = &[
         line_of: Some("alpha = 0.5"),
     },
     Case {
+        name: "adaptive-tolerance-out-of-range",
+        edit: |t| {
+            replace(
+                t,
+                "integrator = \"euler-cromer\"",
+                "integrator = \"dormand-prince\"\nadaptive = { tolerance = 0.0 }",
+            )
+        },
+        key: Some("structure.adaptive.tolerance"),
+        says: "must lie strictly between 0 and 1",
+        line_of: Some("tolerance = 0.0"),
+    },
+    Case {
         name: "spring-to-unknown-point",
         edit: |t| {
             format!("{t}\n[[structure.points]]\nname = \"p\"\nposition = [0.0, 0.0, 1.0]\nfixed = true\n\n[[structure.springs]]\nends = [\"p\", \"q\"]\nstiffness = 1.0\n")

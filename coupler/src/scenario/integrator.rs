@@ -33,10 +33,13 @@ pub enum Integrator {
     Kang,
     /// Backward Euler with Newton iterations and conjugate gradients (Baraff & Witkin 1998).
     BackwardEuler,
+    /// Adaptive Dormand–Prince 5(4), tolerance from `[structure.adaptive]`
+    /// (beyond the seeds: Dormand & Prince 1980).
+    DormandPrince,
 }
 
 impl Integrator {
-    pub const ALL: [Integrator; 12] = [
+    pub const ALL: [Integrator; 13] = [
         Integrator::ExplicitEuler,
         Integrator::EulerCromer,
         Integrator::EulerRichardson,
@@ -49,6 +52,7 @@ impl Integrator {
         Integrator::Rk4,
         Integrator::Kang,
         Integrator::BackwardEuler,
+        Integrator::DormandPrince,
     ];
 
     /// The scenario spelling, e.g. `"velocity-verlet"`.
@@ -66,7 +70,13 @@ impl Integrator {
             Integrator::Rk4 => "rk4",
             Integrator::Kang => "kang",
             Integrator::BackwardEuler => "backward-euler",
+            Integrator::DormandPrince => "dormand-prince",
         }
+    }
+
+    /// Whether the scheme chooses its own internal steps by error control.
+    pub fn is_adaptive(self) -> bool {
+        self == Integrator::DormandPrince
     }
 
     /// Whether the scheme solves a nonlinear system with Newton iterations.
@@ -116,6 +126,28 @@ impl Default for HhtParams {
             alpha: default_alpha(),
         }
     }
+}
+
+/// `[structure.adaptive]`: the error tolerance of `integrator = "dormand-prince"`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdaptiveParams {
+    /// Largest local error per internal step, relative to 1 + |value| of each
+    /// position [m] and velocity [m/s].
+    #[serde(default = "default_adaptive_tolerance")]
+    pub tolerance: f64,
+}
+
+impl Default for AdaptiveParams {
+    fn default() -> Self {
+        AdaptiveParams {
+            tolerance: default_adaptive_tolerance(),
+        }
+    }
+}
+
+fn default_adaptive_tolerance() -> f64 {
+    1e-6
 }
 
 /// `[structure.newton]`: the nonlinear solve of the implicit schemes.
@@ -189,6 +221,9 @@ pub enum Scheme {
     BackwardEuler {
         newton: NewtonParams,
     },
+    DormandPrince {
+        tolerance: f64,
+    },
 }
 
 impl Scheme {
@@ -197,6 +232,7 @@ impl Scheme {
         newmark: NewmarkParams,
         hht: HhtParams,
         newton: NewtonParams,
+        adaptive: AdaptiveParams,
     ) -> Scheme {
         let nm = |beta, gamma, alpha| Scheme::Newmark {
             beta,
@@ -220,6 +256,9 @@ impl Scheme {
                 nm((1.0 - a).powi(2) / 4.0, 0.5 - a, a)
             }
             Integrator::BackwardEuler => Scheme::BackwardEuler { newton },
+            Integrator::DormandPrince => Scheme::DormandPrince {
+                tolerance: adaptive.tolerance,
+            },
         }
     }
 }
@@ -229,7 +268,11 @@ pub(crate) fn check_params(
     newmark: &NewmarkParams,
     hht: &HhtParams,
     newton: &NewtonParams,
+    adaptive: &AdaptiveParams,
 ) {
+    c.within("adaptive", None, |c| {
+        c.fraction(&["tolerance"], adaptive.tolerance)
+    });
     c.within("newmark", None, |c| {
         if !(newmark.beta.is_finite() && (0.0..=0.5).contains(&newmark.beta)) {
             c.problem(

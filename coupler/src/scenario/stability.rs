@@ -37,7 +37,8 @@ pub enum Interval {
 /// - RK4: |R(iy)|² = 1 − y⁶/72 + y⁸/576 ≤ 1 for y ≤ 2√2;
 /// - Newmark (seed 003 eq. 27, for α = 0): unconditional for 2β ≥ γ ≥ ½,
 ///   else y ≤ 1/√(γ/2 − β); HHT's parameters satisfy 2β ≥ γ;
-/// - backward Euler: A-stable; Kang's method: unconditionally stable (Kang et al. 2000).
+/// - backward Euler: A-stable; Kang's method: unconditionally stable (Kang et al. 2000);
+/// - adaptive Dormand–Prince: its step control takes internal steps as small as needed.
 pub fn interval(scheme: Scheme) -> Interval {
     match scheme {
         Scheme::ExplicitEuler | Scheme::EulerRichardson | Scheme::ImprovedEuler => Interval::Empty,
@@ -52,7 +53,11 @@ pub fn interval(scheme: Scheme) -> Interval {
                 Interval::Bounded(1.0 / (gamma / 2.0 - beta).sqrt())
             }
         }
-        Scheme::Kang | Scheme::BackwardEuler { .. } => Interval::Unconditional,
+        // Dormand–Prince shrinks its internal steps until its error estimate
+        // holds, which keeps it stable at any outer step, at a cost.
+        Scheme::Kang | Scheme::BackwardEuler { .. } | Scheme::DormandPrince { .. } => {
+            Interval::Unconditional
+        }
     }
 }
 

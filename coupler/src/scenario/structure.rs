@@ -2,7 +2,9 @@
 
 use super::check::Checker;
 use super::fluid::PorousLoad;
-pub use super::integrator::{HhtParams, Integrator, NewmarkParams, NewtonParams, Scheme};
+pub use super::integrator::{
+    AdaptiveParams, HhtParams, Integrator, NewmarkParams, NewtonParams, Scheme,
+};
 pub use super::parachute::{
     Cloth, ClothHold, ClothPlane, LineBreak, LineChange, Parachute, ParachuteModel,
 };
@@ -30,6 +32,9 @@ pub struct StructureSection {
     /// Newton and conjugate-gradient settings of the implicit schemes.
     #[serde(default)]
     pub newton: NewtonParams,
+    /// The error tolerance for `integrator = "dormand-prince"`.
+    #[serde(default)]
+    pub adaptive: AdaptiveParams,
     /// Gravitational acceleration [m/s²].
     #[serde(default = "default_gravity")]
     pub gravity: [f64; 3],
@@ -267,7 +272,13 @@ impl StructureSection {
 
     /// The integrator with its parameters resolved.
     pub fn scheme(&self) -> Scheme {
-        Scheme::resolve(self.integrator, self.newmark, self.hht, self.newton)
+        Scheme::resolve(
+            self.integrator,
+            self.newmark,
+            self.hht,
+            self.newton,
+            self.adaptive,
+        )
     }
 
     pub fn check(&self, c: &mut Checker, rigid: Option<&RigidSection>) {
@@ -292,7 +303,7 @@ impl StructureSection {
             if let Some(cl) = &self.cloth {
                 cl.check(c);
             }
-            super::integrator::check_params(c, &self.newmark, &self.hht, &self.newton);
+            super::integrator::check_params(c, &self.newmark, &self.hht, &self.newton, &self.adaptive);
             match (self.damping, self.damping_coefficient) {
                 (Damping::Viscous, None) => c.problem(&["damping_coefficient"],
                     "damping = \"viscous\" needs damping_coefficient = c (N·s/m, seed 000 eq. 2.38)".into()),

@@ -10,6 +10,7 @@
 
 mod backward_euler;
 mod cg;
+mod dormand_prince;
 mod euler_cromer;
 mod euler_richardson;
 mod explicit_euler;
@@ -32,6 +33,8 @@ pub enum StepError {
     NoConvergence { iterations: u32, correction: f64 },
     #[error("a non-finite value appeared in the Newton iterations")]
     NonFinite,
+    #[error("the adaptive step fell to {step:.3e} s, {time:.3e} s into the step: the error tolerance cannot be met")]
+    StepTooSmall { step: f64, time: f64 },
 }
 
 pub trait Integrator: Send {
@@ -46,6 +49,11 @@ pub trait Integrator: Send {
 
     /// Impulse ∫F dt [N·s] of the last step on the nodes with 1/m = 0 (3 per node, 0 elsewhere).
     fn reaction(&self) -> &[f64];
+
+    /// Internal steps taken so far, for schemes that choose their own (adaptive ones).
+    fn internal_steps(&self) -> Option<u64> {
+        None
+    }
 }
 
 /// The integrator for `scheme`.
@@ -65,6 +73,9 @@ pub fn integrator(scheme: Scheme) -> Box<dyn Integrator> {
             newton,
         } => Box::new(newmark::Newmark::new(beta, gamma, alpha, newton)),
         Scheme::BackwardEuler { newton } => Box::new(backward_euler::BackwardEuler::new(newton)),
+        Scheme::DormandPrince { tolerance } => {
+            Box::new(dormand_prince::DormandPrince::new(tolerance))
+        }
     }
 }
 
@@ -85,6 +96,7 @@ pub fn theoretical_order(scheme: Scheme) -> u32 {
             }
         }
         Scheme::Rk4 => 4,
+        Scheme::DormandPrince { .. } => 5,
     }
 }
 

@@ -37,6 +37,7 @@ pub fn canopy(e: Elasticity, gravity: [f64; 3], damping: Option<Law>) -> Model {
         newmark: Default::default(),
         hht: Default::default(),
         newton: Default::default(),
+        adaptive: Default::default(),
         gravity,
         damping: match damping {
             None => Damping::None,
@@ -81,7 +82,15 @@ pub fn all_schemes() -> Vec<Scheme> {
     let newton = NewtonParams::default();
     let mut v: Vec<Scheme> = Integrator::ALL
         .iter()
-        .map(|&i| Scheme::resolve(i, Default::default(), Default::default(), newton))
+        .map(|&i| {
+            Scheme::resolve(
+                i,
+                Default::default(),
+                Default::default(),
+                newton,
+                Default::default(),
+            )
+        })
         .collect();
     // A first-order Newmark: γ ≠ 1/2.
     v.push(Scheme::Newmark {
