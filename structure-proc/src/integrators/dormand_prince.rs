@@ -43,16 +43,8 @@ const A: [[f64; 6]; 7] = [
         11.0 / 84.0,
     ],
 ];
-/// Weights of the fifth-order solution (the last row of A, and 0).
-const B: [f64; 7] = [
-    35.0 / 384.0,
-    0.0,
-    500.0 / 1113.0,
-    125.0 / 192.0,
-    -2187.0 / 6784.0,
-    11.0 / 84.0,
-    0.0,
-];
+/// Weights of the fifth-order solution: the last row of A, and 0.
+const B: [f64; 7] = [A[6][0], A[6][1], A[6][2], A[6][3], A[6][4], A[6][5], 0.0];
 /// Fifth- minus fourth-order weights: the local error estimate.
 const E: [f64; 7] = [
     71.0 / 57600.0,
