@@ -89,19 +89,9 @@ fn scheme_of(i: Scheme) -> coupler::scenario::structure::Scheme {
     section.scheme()
 }
 
-/// Largest angular frequency of the springs, bounded by Gershgorin's circles of
-/// M⁻¹K: ω_max² ≤ max_i 2 Σ_j k_ij / m_i.
+/// ω_max of seed 000 eq. (3.7), node by node (Gershgorin's bound on M⁻¹K).
 fn omega_max(m: &Model) -> f64 {
-    let mut row = vec![0.0; m.nodes()];
-    for &(i, j, k) in &m.couplings {
-        row[i] += k;
-        row[j] += k;
-    }
-    (0..m.nodes())
-        .filter(|&n| m.inv_mass[n] > 0.0)
-        .map(|n| 2.0 * row[n] * m.inv_mass[n])
-        .fold(0.0, f64::max)
-        .sqrt()
+    structure_proc::stability::omega_max(&m.inv_mass, &m.couplings)
 }
 
 fn implicit_vs_explicit(c: &mut Criterion) {
