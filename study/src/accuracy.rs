@@ -80,14 +80,19 @@ fn level(r: &dyn Reference, i: Integrator, dt: f64, l: usize, levels: usize) -> 
     if !i.is_adaptive() {
         return (scheme(i), dt);
     }
+    let tolerance = adaptive_tolerance(l, levels);
+    (Scheme::DormandPrince { tolerance }, r.sample_interval())
+}
+
+/// The tolerance of level `l` of `levels`: [`ADAPTIVE_TOLERANCES`], log-spaced.
+pub fn adaptive_tolerance(l: usize, levels: usize) -> f64 {
     let (hi, lo) = ADAPTIVE_TOLERANCES;
     let s = if levels > 1 {
         l as f64 / (levels - 1) as f64
     } else {
         0.0
     };
-    let tolerance = hi * (lo / hi).powf(s);
-    (Scheme::DormandPrince { tolerance }, r.sample_interval())
+    hi * (lo / hi).powf(s)
 }
 
 /// One run of `integrator` as `scheme` with step `dt` on `r`, without timing.

@@ -9,4 +9,5 @@ pub mod elliptic;
 pub mod plot;
 pub mod reference;
 pub mod report;
+pub mod scenario;
 pub mod stability;

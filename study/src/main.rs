@@ -4,7 +4,7 @@
 use clap::{Args, Parser, Subcommand};
 use coupler::scenario::structure::Integrator;
 use std::path::{Path, PathBuf};
-use study::{accuracy, plot, reference, report, stability};
+use study::{accuracy, plot, reference, report, scenario, stability};
 
 /// Exit code for bad input, as the coupler's.
 const EXIT_BAD_INPUT: i32 = 2;
@@ -63,22 +63,31 @@ struct StabilityArgs {
 
 #[derive(Args)]
 struct AccuracyArgs {
-    /// Reference system: damped-oscillator, oscillator, pendulum or spring-pendulum.
-    #[arg(long, default_value = "damped-oscillator")]
-    system: String,
+    /// Reference system: damped-oscillator (default), oscillator, pendulum or spring-pendulum.
+    #[arg(long)]
+    system: Option<String>,
     /// Integrators to compare, comma-separated scenario names (default: all).
     #[arg(long, value_delimiter = ',')]
     integrators: Vec<String>,
     /// Largest time step [s]; must divide the error sampling interval (0.5 s).
     #[arg(long, default_value_t = 0.125)]
     dt_max: f64,
-    /// Number of steps on the ladder, each half the one before.
-    #[arg(long, default_value_t = 13)]
-    levels: u32,
+    /// Number of steps on the ladder, each half the one before (default 13;
+    /// 5 for a scenario).
+    #[arg(long)]
+    levels: Option<u32>,
+    /// Study a scenario instead of a reference system: each run goes through
+    /// `coupler run`, its structure step halved from the scenario's own, and
+    /// is compared with an RK4 run at a step 2³ times smaller than the smallest.
+    #[arg(long, conflicts_with = "system")]
+    scenario: Option<PathBuf>,
+    /// With --scenario: simulate only up to this time [s].
+    #[arg(long, requires = "scenario")]
+    end_time: Option<f64>,
     /// Error whose CPU cost the table reports.
     #[arg(long, default_value_t = 1e-4)]
     target_error: f64,
-    /// Study directory (default: studies/accuracy-<system>).
+    /// Study directory (default: studies/accuracy-<system or scene>).
     #[arg(long)]
     out: Option<PathBuf>,
 }
@@ -129,17 +138,29 @@ fn study_dir(out: &Path) -> Result<(), i32> {
 }
 
 fn accuracy_study(a: AccuracyArgs) -> i32 {
-    let Some(system) = reference::by_name(&a.system) else {
-        let names: Vec<&str> = reference::all().iter().map(|r| r.name()).collect();
-        return bad_input(format!(
-            "--system {}: no such reference system (choose one of {})",
-            a.system,
-            names.join(", ")
-        ));
-    };
+    let levels = a
+        .levels
+        .unwrap_or(if a.scenario.is_some() { 5 } else { 13 });
+    if !(1..=20).contains(&levels) {
+        return bad_input(format!("--levels {levels}: must lie in 1..=20"));
+    }
+    if !(a.target_error > 0.0 && a.target_error.is_finite()) {
+        return bad_input(format!("--target-error {}: must be > 0", a.target_error));
+    }
     let integrators = match integrators(&a.integrators) {
         Ok(i) => i,
         Err(code) => return code,
+    };
+    if let Some(path) = &a.scenario {
+        return scenario_study(&a, path, &integrators, levels);
+    }
+    let name = a.system.as_deref().unwrap_or("damped-oscillator");
+    let Some(system) = reference::by_name(name) else {
+        let names: Vec<&str> = reference::all().iter().map(|r| r.name()).collect();
+        return bad_input(format!(
+            "--system {name}: no such reference system (choose one of {})",
+            names.join(", ")
+        ));
     };
     let per_sample = system.sample_interval() / a.dt_max;
     if !(a.dt_max > 0.0
@@ -152,46 +173,113 @@ fn accuracy_study(a: AccuracyArgs) -> i32 {
             system.sample_interval()
         ));
     }
-    if !(1..=20).contains(&a.levels) {
-        return bad_input(format!("--levels {}: must lie in 1..=20", a.levels));
-    }
-    if !(a.target_error > 0.0 && a.target_error.is_finite()) {
-        return bad_input(format!("--target-error {}: must be > 0", a.target_error));
-    }
     let out = a
         .out
+        .clone()
         .unwrap_or_else(|| PathBuf::from(format!("studies/accuracy-{}", system.name())));
     if let Err(code) = study_dir(&out) {
         return code;
     }
-    let steps = accuracy::ladder(a.dt_max, a.levels);
+    let steps = accuracy::ladder(a.dt_max, levels);
     eprintln!(
         "study accuracy: {} integrators × {} steps on `{}`",
         integrators.len(),
         steps.len(),
         system.name()
     );
-    let runs = accuracy::sweep(system.as_ref(), &integrators, &steps, |r| {
-        eprintln!(
-            "  {:<30} dt = {:<10.3e} error = {:<10.3e} cpu = {:.3e} s  {}",
-            r.integrator.name(),
-            r.dt,
-            r.error,
-            r.cpu_seconds,
-            r.status.label()
-        );
-    });
-    let summaries = accuracy::summarise(&runs, a.target_error);
-    let table = report::markdown(system.as_ref(), &summaries, &steps, a.target_error);
-    let written = std::fs::write(out.join("accuracy.csv"), report::csv(&runs))
+    let runs = accuracy::sweep(system.as_ref(), &integrators, &steps, print_run);
+    let setup = report::reference_setup(system.as_ref(), &steps);
+    write_accuracy(&out, system.name(), &setup, &runs, a.target_error)
+}
+
+/// A progress line for one run.
+fn print_run(r: &accuracy::Run) {
+    eprintln!(
+        "  {:<30} dt = {:<10.3e} error = {:<10.3e} cpu = {:.3e} s  {}",
+        r.integrator.name(),
+        r.dt,
+        r.error,
+        r.cpu_seconds,
+        r.status.label()
+    );
+}
+
+/// `coupler study accuracy --scenario PATH`.
+fn scenario_study(a: &AccuracyArgs, path: &Path, integrators: &[Integrator], levels: u32) -> i32 {
+    let probe = match scenario::ScenarioStudy::new(path, Path::new("."), a.end_time) {
+        Ok(s) => s,
+        Err(e) => return bad_input(e),
+    };
+    let out = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("studies/accuracy-{}", probe.name())));
+    if let Err(code) = study_dir(&out) {
+        return code;
+    }
+    let study = scenario::ScenarioStudy {
+        dir: out.clone(),
+        ..probe
+    };
+    let base = study.scenario.coupling.structure_substeps as u64;
+    let finest = base << (levels - 1 + scenario::REFERENCE_HALVINGS);
+    if finest as f64 > coupler::scenario::MAX_SUBSTEPS {
+        return bad_input(format!(
+            "--levels {levels}: the reference would need {finest} sub-steps per window, more than {}",
+            coupler::scenario::MAX_SUBSTEPS
+        ));
+    }
+    let finest = finest as u32;
+    let substeps: Vec<u32> = (0..levels).map(|l| (base as u32) << l).collect();
+    eprintln!(
+        "study accuracy: {} integrators × {} steps on scenario `{}`; reference {} at Δt_s = {:e} s",
+        integrators.len(),
+        substeps.len(),
+        study.name(),
+        scenario::REFERENCE.name(),
+        study.step(finest)
+    );
+    let result = study
+        .reference(finest)
+        .and_then(|r| study.sweep(integrators, &substeps, &r, print_run));
+    let runs = match result {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 1;
+        }
+    };
+    let steps: Vec<f64> = substeps.iter().map(|&n| study.step(n)).collect();
+    let setup = format!(
+        "- Scenario: {} ({} s simulated, coupling window {} s), every run through `coupler run`.\n- Error: {}.\n- Reference: {} at Δt_s = {:e} s ({} sub-steps per window).\n- Steps: Δt_s = {:e} s down to {:e} s, halving; an adaptive scheme runs at the scenario's own step with tolerances from {:e} down to {:e}.\n- CPU time: the structure process's, from each run's manifest.\n",
+        study.path.display(),
+        study.scenario.run.end_time - study.scenario.run.start_time,
+        study.scenario.coupling.window,
+        scenario::ERROR_MEASURE,
+        scenario::REFERENCE.name(),
+        study.step(finest),
+        finest,
+        steps[0],
+        steps[steps.len() - 1],
+        accuracy::ADAPTIVE_TOLERANCES.0,
+        accuracy::ADAPTIVE_TOLERANCES.1,
+    );
+    write_accuracy(&out, study.name(), &setup, &runs, a.target_error)
+}
+
+/// Write the CSV, the Markdown table and the work-precision plot into `out`.
+fn write_accuracy(out: &Path, name: &str, setup: &str, runs: &[accuracy::Run], target: f64) -> i32 {
+    let summaries = accuracy::summarise(runs, target);
+    let table = report::markdown(name, setup, &summaries, target);
+    let written = std::fs::write(out.join("accuracy.csv"), report::csv(runs))
         .and_then(|_| std::fs::write(out.join("accuracy.md"), &table));
     if let Err(e) = written {
         eprintln!("error: cannot write into {}: {e}", out.display());
         return 1;
     }
-    let title = format!("Work precision: {}", system.name());
+    let title = format!("Work precision: {name}");
     if let Err(e) = plot::work_precision(
-        &runs,
+        runs,
         &title,
         &out.join("work-precision.png"),
         &out.join("work-precision.svg"),

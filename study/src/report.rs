@@ -33,12 +33,10 @@ fn or_dash(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
     x.map(f).unwrap_or_else(|| "—".into())
 }
 
-/// The Markdown report: the set-up, then one row per integrator.
-pub fn markdown(r: &dyn Reference, summaries: &[Summary], steps: &[f64], target: f64) -> String {
-    let mut s = format!("# Accuracy study: {}\n\n", r.name());
-    let _ = writeln!(
-        s,
-        "- Error: {}.\n- {} s simulated, error sampled every {} s.\n- Steps: {:e} s down to {:e} s, halving. An adaptive scheme (dormand-prince) instead runs one level per tolerance, from {:e} down to {:e}, log-spaced, handed the whole sampling interval; its dt is its mean internal step.\n- Measured order: least-squares slope of ln(error) against ln(dt) over the {FIT_POINTS} smallest steps whose error lies in [{:e}, {:e}].\n- CPU time: seconds of process CPU time for one run, interpolated log–log to reach error ≤ {target:e}.\n",
+/// The set-up lines of a study on a reference system.
+pub fn reference_setup(r: &dyn Reference, steps: &[f64]) -> String {
+    format!(
+        "- Error: {}.\n- {} s simulated, error sampled every {} s.\n- Steps: {:e} s down to {:e} s, halving. An adaptive scheme (dormand-prince) instead runs one level per tolerance, from {:e} down to {:e}, log-spaced, handed the whole sampling interval; its dt is its mean internal step.\n",
         r.error_measure(),
         r.end_time(),
         r.sample_interval(),
@@ -46,6 +44,16 @@ pub fn markdown(r: &dyn Reference, summaries: &[Summary], steps: &[f64], target:
         steps.iter().copied().fold(f64::MAX, f64::min),
         ADAPTIVE_TOLERANCES.0,
         ADAPTIVE_TOLERANCES.1,
+    )
+}
+
+/// The Markdown report: the title, the set-up, how orders and costs are
+/// measured, then one row per integrator.
+pub fn markdown(title: &str, setup: &str, summaries: &[Summary], target: f64) -> String {
+    let mut s = format!("# Accuracy study: {title}\n\n{setup}");
+    let _ = writeln!(
+        s,
+        "- Measured order: least-squares slope of ln(error) against ln(dt) over the {FIT_POINTS} smallest steps whose error lies in [{:e}, {:e}].\n- CPU time: seconds of process CPU time for one run, interpolated log–log to reach error ≤ {target:e}.\n",
         FIT_RANGE.0,
         FIT_RANGE.1,
     );

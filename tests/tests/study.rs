@@ -126,3 +126,54 @@ fn a_zero_stiffness_is_bad_input() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("--k-min 0"), "{err}");
 }
+
+/// A scenario studied through `coupler run`: the spring pendulum of seed 003
+/// §2.5.2 against an RK4 run 2³ times finer than the finest step. Halving the
+/// structure step divides the error by 2^p, p each scheme's order (seed 003
+/// §2.4); the CPU time comes from each run's manifest.
+#[test]
+fn accuracy_study_of_a_scenario_measures_orders_through_coupler_runs() {
+    let scene = scenario_path("spring-pendulum");
+    let (out, rows) = study(
+        "study-scenario",
+        &[
+            "accuracy",
+            "--scenario",
+            scene.to_str().unwrap(),
+            "--end-time",
+            "1.0",
+            "--integrators",
+            "explicit-euler,velocity-verlet,rk4",
+            "--levels",
+            "4",
+        ],
+        "accuracy.csv",
+    );
+    assert_eq!(rows.len(), 12, "3 integrators × 4 steps");
+    for (name, order) in [("explicit-euler", 1), ("velocity-verlet", 2), ("rk4", 4)] {
+        let mine: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == name).collect();
+        let error = |i: usize| mine[i][2].parse::<f64>().unwrap();
+        // The two largest steps: the smaller ones of RK4 approach the reference's own error.
+        let ratio = error(0) / error(1);
+        let expected = 2f64.powi(order);
+        assert!(
+            (ratio / expected - 1.0).abs() < 0.15,
+            "{name}: error ratio {ratio}, expected {expected}"
+        );
+        let cpu: f64 = mine[0][3].parse().unwrap();
+        assert!(cpu > 0.0 && cpu.is_finite(), "{name}: CPU time {cpu}");
+    }
+    let table = std::fs::read_to_string(out.join("accuracy.md")).unwrap();
+    // Finest step 1e-3/2³ s; the reference 2³ times finer still.
+    assert!(
+        table.contains("Reference: rk4 at Δt_s = 1.5625e-5 s"),
+        "{table}"
+    );
+    assert!(out.join("runs").join("rk4-n64.toml").is_file());
+}
+
+#[test]
+fn a_missing_scenario_is_bad_input() {
+    let o = coupler(&["study", "accuracy", "--scenario", "no/such.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+}
