@@ -142,10 +142,19 @@ impl ScenarioStudy {
     /// The reference: [`REFERENCE`] at `substeps`; its rows.
     pub fn reference(&self, substeps: u32) -> Result<Vec<Vec<f64>>, String> {
         let r = self.run(REFERENCE, substeps, None)?;
-        match r.status {
-            Status::Ok => Ok(r.rows),
-            s => Err(format!("the reference run did not finish: {}", s.label())),
+        if r.status != Status::Ok {
+            return Err(format!(
+                "the reference run did not finish: {}",
+                r.status.label()
+            ));
         }
+        if error(&r.rows, &r.rows).is_none() {
+            return Err(format!(
+                "{}: no monitored structure quantity moves in the reference run, so there is nothing to compare",
+                self.path.display()
+            ));
+        }
+        Ok(r.rows)
     }
 
     /// Every integrator at every sub-step count, against `reference`; an
@@ -172,10 +181,9 @@ impl ScenarioStudy {
                     integrator: i,
                     dt: self.step(n),
                     tolerance,
-                    error: if o.status == Status::Ok {
-                        error(&o.rows, reference)
-                    } else {
-                        f64::NAN
+                    error: match o.status {
+                        Status::Ok => error(&o.rows, reference).unwrap_or(f64::NAN),
+                        _ => f64::NAN,
                     },
                     cpu_seconds: o.cpu_seconds,
                     steps: o.substeps,
@@ -196,33 +204,30 @@ fn diverged_at(error: &str) -> Option<f64> {
 }
 
 /// What the error measures, for the report.
-pub const ERROR_MEASURE: &str = "largest difference from the reference run over every window end and every monitored structure position (named points' x, y, z and the canopy's centre deflection), divided by the largest displacement of those positions in the reference run";
+pub const ERROR_MEASURE: &str = "largest difference from the reference run over every window end, for each monitored structure quantity that moves in the reference (named points' x, y, z, the canopy's centre deflection, kinetic and potential energy) divided by its range in the reference, the largest over the quantities";
 
-/// The structure's monitored positions from `monitors.csv`, by row:
-/// columns `structure.<point>.x|y|z` and `structure.centre_deflection`.
+/// The structure's monitored positions and energies from `monitors.csv`, by
+/// row: columns `structure.<point>.x|y|z`, `structure.centre_deflection`,
+/// `structure.kinetic_energy` and `structure.potential_energy`.
 fn compared_columns(path: &Path) -> Result<Vec<Vec<f64>>, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
-    let keep: Vec<usize> = header
-        .iter()
-        .enumerate()
-        .filter(|(_, h)| {
-            h.starts_with("structure.")
-                && (h.ends_with(".x")
-                    || h.ends_with(".y")
-                    || h.ends_with(".z")
-                    || h.ends_with("centre_deflection"))
-        })
-        .map(|(i, _)| i)
-        .collect();
-    if keep.is_empty() {
-        return Err(format!(
-            "{}: the structure monitors no position (name a point or give a canopy)",
-            path.display()
-        ));
-    }
+    let compared = |h: &str| {
+        h.starts_with("structure.")
+            && [
+                ".x",
+                ".y",
+                ".z",
+                "centre_deflection",
+                "kinetic_energy",
+                "potential_energy",
+            ]
+            .iter()
+            .any(|end| h.ends_with(end))
+    };
+    let keep: Vec<usize> = (0..header.len()).filter(|&i| compared(header[i])).collect();
     Ok(lines
         .map(|l| {
             let v: Vec<f64> = l
@@ -236,19 +241,35 @@ fn compared_columns(path: &Path) -> Result<Vec<Vec<f64>>, String> {
         .collect())
 }
 
-/// Largest |q − q_ref| over rows and columns, over the largest displacement
-/// |q_ref(t) − q_ref(0)|; infinite when the run wrote fewer rows.
-pub fn error(rows: &[Vec<f64>], reference: &[Vec<f64>]) -> f64 {
-    if rows.len() < reference.len() || reference.is_empty() {
-        return f64::INFINITY;
+/// The range max_t q_ref − min_t q_ref of each column of `reference`.
+fn ranges(reference: &[Vec<f64>]) -> Vec<f64> {
+    let columns = reference.first().map_or(0, Vec::len);
+    (0..columns)
+        .map(|c| {
+            let (lo, hi) = reference.iter().fold((f64::MAX, f64::MIN), |(lo, hi), r| {
+                (lo.min(r[c]), hi.max(r[c]))
+            });
+            hi - lo
+        })
+        .collect()
+}
+
+/// The largest over the columns that move in `reference` of
+/// max_t |q − q_ref| / range(q_ref); infinite when the run wrote fewer rows
+/// or a non-finite value. None when nothing moves in the reference.
+pub fn error(rows: &[Vec<f64>], reference: &[Vec<f64>]) -> Option<f64> {
+    let range = ranges(reference);
+    let moving: Vec<usize> = (0..range.len()).filter(|&c| range[c] > 0.0).collect();
+    if moving.is_empty() {
+        return None;
     }
-    let start = &reference[0];
-    let mut scale: f64 = 0.0;
+    if rows.len() < reference.len() {
+        return Some(f64::INFINITY);
+    }
     let mut worst: f64 = 0.0;
     for (r, q) in reference.iter().zip(rows) {
-        for c in 0..r.len() {
-            scale = scale.max((r[c] - start[c]).abs());
-            let d = (q[c] - r[c]).abs();
+        for &c in &moving {
+            let d = (q[c] - r[c]).abs() / range[c];
             worst = if d.is_nan() {
                 f64::INFINITY
             } else {
@@ -256,5 +277,5 @@ pub fn error(rows: &[Vec<f64>], reference: &[Vec<f64>]) -> f64 {
             };
         }
     }
-    worst / scale.max(f64::MIN_POSITIVE)
+    Some(worst)
 }
