@@ -124,3 +124,13 @@ pub fn manifest(run: &Path) -> serde_json::Value {
     )
     .expect("manifest parses")
 }
+
+/// The number that follows `marker` in `text` (up to the next space), e.g.
+/// the time in "diverged at t = 2.4e0 s"; panics if there is none.
+pub fn number_after(text: &str, marker: &str) -> f64 {
+    text.split(marker)
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("no number after {marker:?} in {text:?}"))
+}

@@ -25,9 +25,10 @@ pub struct Watch {
 }
 
 impl Watch {
-    /// The largest of: the fastest node at the start, the free stream (of
-    /// `[fluid]` or `[structure.porous]`), the speed that gravity gives in
-    /// the whole run, |g|·(t_end − t₀), and [`MIN_SPEED_SCALE`].
+    /// The largest of: the fastest node at the start, the speed the initial
+    /// elastic energy would give the lightest free node, √(2E/m_min), the free
+    /// stream (of `[fluid]` or `[structure.porous]`), the speed that gravity
+    /// gives in the whole run, |g|·(t_end − t₀), and [`MIN_SPEED_SCALE`].
     pub fn new(m: &Model, scenario: &Scenario) -> Watch {
         let mut w = Watch {
             scale: MIN_SPEED_SCALE,
@@ -42,6 +43,17 @@ impl Watch {
         if let Some(p) = &m.porous {
             w.raise(stream(p.free_stream), "the free stream");
         }
+        // Energy stored in the springs at the start, all given to the lightest
+        // free node: the fastest it could move on that energy alone.
+        let lightest = (0..m.nodes())
+            .filter(|&n| m.inv_mass[n] > 0.0)
+            .map(|n| m.mass[n])
+            .fold(f64::INFINITY, f64::min);
+        let stored = crate::forces::elastic_energy(m, &m.x);
+        w.raise(
+            (2.0 * stored / lightest).sqrt(),
+            "the elastic energy at the start on the lightest node",
+        );
         let g = stream(m.gravity);
         w.raise(
             g * (scenario.run.end_time - scenario.run.start_time),

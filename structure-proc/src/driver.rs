@@ -24,6 +24,13 @@ pub trait Stepper {
     /// Advance `m` by `m.dt` under `loads`: positions, velocities, the
     /// attachment impulses and `m.time` (see [`Model::finish_step`]).
     fn step(&mut self, m: &mut Model, loads: &Loads) -> Result<(), StepError>;
+
+    /// Whether the method is the scenario's `[structure] integrator`, whose
+    /// stability interval the coupler's estimate assumes. Other methods
+    /// (xpbd-proc's constraint solver) report no ω_max.
+    fn is_scenario_integrator(&self) -> bool {
+        false
+    }
 }
 
 /// One of the integrators of seed 003 §2.4 (or backward Euler) as a stepper.
@@ -50,6 +57,10 @@ impl Stepper for Scheme {
     fn step(&mut self, m: &mut Model, loads: &Loads) -> Result<(), StepError> {
         m.step(self.integrator.as_mut(), loads)
     }
+
+    fn is_scenario_integrator(&self) -> bool {
+        true
+    }
 }
 
 /// Run `run` and exit: status 1 with the message on stderr if it failed.
@@ -62,7 +73,7 @@ pub fn main<S: Stepper>(
     let args: Vec<String> = std::env::args().skip(1).collect();
     if let [flag, path] = args.as_slice() {
         if flag == OMEGA_MAX_FLAG {
-            match omega_max_of(std::path::Path::new(path)) {
+            match omega_max_of(std::path::Path::new(path), make) {
                 Ok(w) => println!("omega_max {w:e}"),
                 Err(e) => {
                     eprintln!("{program}: {e}");
@@ -78,31 +89,45 @@ pub fn main<S: Stepper>(
     }
 }
 
-/// The ω_max bound (seed 000 eq. 3.7) of the model the scenario at `path` builds.
-fn omega_max_of(path: &std::path::Path) -> Result<f64, Error> {
+/// The ω_max bound (seed 000 eq. 3.7) of the model the scenario at `path`
+/// builds, if the program's stepper is the scenario's integrator.
+fn omega_max_of<S: Stepper>(
+    path: &std::path::Path,
+    make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
+) -> Result<f64, Error> {
     let scenario = Scenario::load(path)?;
     let section = scenario
         .structure
         .as_ref()
         .ok_or("the scenario has no [structure] section")?;
-    let m = build_model(section, scenario.rigid.as_ref(), structure_dt(&scenario))?;
+    let m = build_model(
+        section,
+        scenario.rigid.as_ref(),
+        scenario.coupling.structure_dt(),
+    )?;
+    let stepper = make(section, &m)?;
+    if !stepper.is_scenario_integrator() {
+        return Err(format!(
+            "{} does not use `integrator = \"{}\"`, so eq. (3.7) and its interval do not apply",
+            stepper.name(),
+            section.integrator.name()
+        )
+        .into());
+    }
     Ok(omega_max(&m.inv_mass, &m.couplings))
 }
 
-/// Δt_s = Δt_f / n_s.
-fn structure_dt(s: &Scenario) -> f64 {
-    s.coupling.window / s.coupling.structure_substeps as f64
-}
-
 /// What the structure reports at every window end: energies, its ω_max
-/// bound (constant, for the coupler's stability estimate), the canopy's
-/// deflection and the named points.
-fn monitors(m: &Model, omega_max: f64) -> Vec<Monitor> {
+/// bound (constant, for the coupler's stability estimate; only when it runs
+/// the scenario's integrator), the canopy's deflection and the named points.
+fn monitors(m: &Model, omega_max: Option<f64>) -> Vec<Monitor> {
     let mut v = vec![
         Monitor::new("kinetic_energy", m.kinetic_energy()),
         Monitor::new("potential_energy", m.potential_energy()),
-        Monitor::new(OMEGA_MAX_MONITOR, omega_max),
     ];
+    if let Some(w) = omega_max {
+        v.push(Monitor::new(OMEGA_MAX_MONITOR, w));
+    }
     if m.canopy_nodes > 0 {
         v.push(Monitor::new("centre_deflection", m.centre_deflection()));
     }
@@ -152,10 +177,16 @@ pub fn run<S: Stepper>(
         .structure
         .as_ref()
         .ok_or("the scenario has no [structure] section")?;
-    let mut m = build_model(section, scenario.rigid.as_ref(), structure_dt(&scenario))?;
-    let omega_max = omega_max(&m.inv_mass, &m.couplings);
+    let mut m = build_model(
+        section,
+        scenario.rigid.as_ref(),
+        scenario.coupling.structure_dt(),
+    )?;
     let mut watch = Watch::new(&m, &scenario);
     let mut stepper = make(section, &m)?;
+    let omega_max = stepper
+        .is_scenario_integrator()
+        .then(|| omega_max(&m.inv_mass, &m.couplings));
     let mut output = Output::new(p.run_dir(), &m);
     let mut substeps = 0u64;
     let mut pressure = None;

@@ -115,6 +115,7 @@ fn run_once(r: &dyn Reference, integrator: Integrator, scheme: Scheme, dt: f64) 
         status: Status::Ok,
     };
     let mut worst: f64 = 0.0;
+    let mut covered = 0.0;
     'samples: for s in 1..=samples {
         for _ in 0..per_sample {
             if let Err(e) = stepper.step(sys.as_ref(), dt, &mut x, &mut v) {
@@ -122,6 +123,7 @@ fn run_once(r: &dyn Reference, integrator: Integrator, scheme: Scheme, dt: f64) 
                 break 'samples;
             }
             run.steps += 1;
+            covered += dt;
         }
         let t = s as f64 * per_sample as f64 * dt;
         let e = r.error(t, &x, &v);
@@ -133,8 +135,9 @@ fn run_once(r: &dyn Reference, integrator: Integrator, scheme: Scheme, dt: f64) 
         run.error = worst;
     }
     if let Some(n) = stepper.internal_steps() {
+        // The mean internal step over the time actually covered.
         run.steps = n;
-        run.dt = r.end_time() / n.max(1) as f64;
+        run.dt = covered / n.max(1) as f64;
     }
     run
 }

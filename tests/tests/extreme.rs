@@ -50,8 +50,8 @@ fn assert_passive(name: &str, e: &[f64]) {
     }
 }
 
-/// The run stopped in its first windows with the divergence diagnostic.
-fn assert_stopped(name: &str, code: Option<i32>, err: &str, out: &Path) {
+/// The run stopped by the time `by` [s] with the divergence diagnostic.
+fn assert_stopped(name: &str, code: Option<i32>, err: &str, out: &Path, by: f64) {
     assert_eq!(code, Some(1), "{name}: a diverged run exits 1:\n{err}");
     let line = err
         .lines()
@@ -61,13 +61,16 @@ fn assert_stopped(name: &str, code: Option<i32>, err: &str, out: &Path) {
         line.contains("diverged at t = ") && line.contains("node ") && line.contains("m/s"),
         "{name}: {line}"
     );
+    let t = number_after(line, "diverged at t = ");
+    assert!(t <= by * (1.0 + 1e-9), "{name}: stopped only at t = {t} s");
     energies(out); // what was written is finite and readable
     assert_eq!(manifest(out)["status"], "failed");
 }
 
-/// Seed 003 table 3: the 703-node annulus with k = A·E/l⁰ from E = 9.575e7 Pa
+/// Seed 003 table 3: the annulus with k = A·E/l⁰ from E = 9.575e7 Pa
 /// under the 50 m/s Ergun load, where every scheme of the seed diverged by
-/// 3.4e-11 s. Backward Euler at Δt = 1e-3 s brings it to rest; velocity
+/// 3.4e-11 s (705 nodes here; the thesis's mesh had 703). Backward Euler at
+/// Δt = 1e-3 s brings it to rest; velocity
 /// Verlet at the same step is stopped in its first window.
 #[test]
 fn stiff_annulus_reaches_equilibrium_with_backward_euler() {
@@ -89,7 +92,7 @@ fn stiff_annulus_reaches_equilibrium_with_backward_euler() {
         "the stream pushes the canopy downstream"
     );
     let man = manifest(&out);
-    assert_eq!(man["stability"]["interval"], "Unconditional");
+    assert_eq!(man["stability"]["interval"], "unconditional");
     // Eq. (3.7) puts RK4's limit 100 times below the step used.
     let omega = man["stability"]["omega_max"].as_f64().unwrap();
     assert!(2.0 * 2f64.sqrt() / omega < 1e-5);
@@ -100,7 +103,8 @@ fn stiff_annulus_reaches_equilibrium_with_backward_euler() {
     });
     let out = dir.join("verlet");
     let (code, err) = run(&verlet, &out);
-    assert_stopped("canopy-stiff with velocity-verlet", code, &err, &out);
+    // Stopped by its second window.
+    assert_stopped("canopy-stiff with velocity-verlet", code, &err, &out, 2e-3);
 }
 
 /// Lines 10³ times stiffer than the fabric, nodes 10⁶ times lighter than
@@ -119,7 +123,8 @@ fn stiff_lines_and_light_nodes_run_implicitly_and_stop_explicitly() {
         });
         let out = dir.join("verlet");
         let (code, err) = run(&verlet, &out);
-        assert_stopped(scene, code, &err, &out);
+        // stiff-lines in its first window; light-nodes within its first four.
+        assert_stopped(scene, code, &err, &out, 4e-3);
     }
 }
 
@@ -156,7 +161,7 @@ fn the_seed_free_stream_of_1e12_m_per_s_is_stopped_with_a_diagnostic() {
     let dir = scratch("extreme-stream");
     let out = dir.join("verlet");
     let (code, err) = run(&scenario_path("free-stream-1e12"), &out);
-    assert_stopped("free-stream-1e12", code, &err, &out);
+    assert_stopped("free-stream-1e12", code, &err, &out, 2e-3);
     assert!(
         err.contains("diverged at t = 2.000000e-3 s")
             && err.contains("1.000e12 m/s, the free stream"),

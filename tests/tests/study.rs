@@ -109,10 +109,23 @@ fn stability_study_writes_the_map_and_finds_the_verlet_limit() {
         }
     }
     let table = std::fs::read_to_string(out.join("stability.md")).unwrap();
-    assert!(
-        table.contains("| velocity-verlet | ω·h ≤ 2.0000 | 2.0000 |"),
-        "{table}"
-    );
+    let row = table
+        .lines()
+        .find(|l| l.starts_with("| velocity-verlet | ω·h ≤ 2.0000 | 2.0000 |"))
+        .unwrap_or_else(|| panic!("{table}"));
+    // The bisected limit: ω·h = 2 on the exact frequency, which eq. 3.7
+    // overestimates by 1.2 %, so about 2.02 on the bound's scale.
+    let measured: f64 = row
+        .split('|')
+        .nth(4)
+        .unwrap()
+        .trim()
+        .split('–')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((2.0..2.05).contains(&measured), "{row}");
     let png = std::fs::read(out.join("stability-map.png")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     let svg = std::fs::read_to_string(out.join("stability-map.svg")).unwrap();

@@ -6,6 +6,7 @@ use super::programs;
 use super::Checked;
 use crate::protocol::Role;
 use crate::scenario::stability::{self, Interval, OMEGA_MAX_FLAG};
+use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -41,15 +42,15 @@ pub fn report(checked: &mut Checked) {
     }
     let c = &s.coupling;
     let name = section.integrator.name();
-    let est = stability::estimate(omega_max, c.window, section.scheme());
-    let limit = match stability::interval(section.scheme()) {
-        Interval::Unconditional => "unconditionally stable".to_string(),
-        Interval::Bounded(y) => format!(
-            "stable for ω_max·Δt_s ≤ {y:.3}, Δt_s ≤ {:.3e} s, n_s ≥ {}",
-            y / omega_max,
+    let scheme = section.scheme();
+    let est = stability::estimate(omega_max, c.window, scheme);
+    let limit = match (stability::interval(scheme), est.stable_dt) {
+        (Interval::Bounded(y), Some(dt)) => format!(
+            "stable for ω_max·Δt_s ≤ {y:.3}, Δt_s ≤ {dt:.3e} s, n_s ≥ {}",
             est.n_s
         ),
-        Interval::Empty => "gains energy at every step".to_string(),
+        (Interval::Empty, _) => "gains energy at every step".to_string(),
+        _ => "unconditionally stable".to_string(),
     };
     println!(
         "  stability ω_max = {omega_max:.4e} rad/s (seed 000 eq. 3.7): {name} {limit}; the seed's ω_max·Δt_s < 0.1 needs n_s ≥ {}",
@@ -70,6 +71,28 @@ fn ask_omega_max(program: &Path, scenario: &Path) -> Result<f64, String> {
         .stderr(Stdio::piped())
         .spawn()
         .map_err(|e| format!("cannot start {}: {e}", program.display()))?;
+    // Drain both pipes while waiting, so a talkative program cannot block on them.
+    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut text = String::new();
+            if let Some(mut p) = pipe {
+                let _ = p.read_to_string(&mut text);
+            }
+            text
+        })
+    };
+    let stdout = drain(
+        child
+            .stdout
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
+    let stderr = drain(
+        child
+            .stderr
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
     let started = Instant::now();
     while child.try_wait().map_err(|e| e.to_string())?.is_none() {
         if started.elapsed() > ANSWER_WITHIN {
@@ -83,13 +106,14 @@ fn ask_omega_max(program: &Path, scenario: &Path) -> Result<f64, String> {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
-    let out = child.wait_with_output().map_err(|e| e.to_string())?;
-    let text = String::from_utf8_lossy(&out.stdout);
-    text.lines()
+    let (out, err) = (
+        stdout.join().unwrap_or_default(),
+        stderr.join().unwrap_or_default(),
+    );
+    out.lines()
         .find_map(|l| l.strip_prefix("omega_max ")?.trim().parse::<f64>().ok())
         .filter(|w| w.is_finite() && *w >= 0.0)
         .ok_or_else(|| {
-            let err = String::from_utf8_lossy(&out.stderr);
             format!(
                 "{} does not report ω_max ({OMEGA_MAX_FLAG}): {}",
                 program.display(),

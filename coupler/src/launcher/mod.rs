@@ -92,7 +92,7 @@ pub fn check(path: &Path) -> i32 {
     println!(
         "  sub-steps n_s = {} (Δt_s = {:e} s), impulse sub-steps = {}",
         c.structure_substeps,
-        c.window / c.structure_substeps as f64,
+        c.structure_dt(),
         c.impulse_substeps
     );
     for (role, program) in &checked.programs {

@@ -432,13 +432,17 @@ fn manifest(
             "impulse_substeps": s.coupling.impulse_substeps,
             "windows": s.windows(),
             "integrator": s.structure.as_ref().map(|st| st.integrator.name()),
-            "structure_dt_s": s.coupling.window / s.coupling.structure_substeps as f64,
+            "structure_dt_s": s.coupling.structure_dt(),
         },
         // From the ω_max the structure reported (seed 000 eq. 3.7): the largest
         // stable step of the integrator and the sub-steps it needs.
         "stability": estimate.map(|e| json!({
             "omega_max": e.omega_max,
-            "interval": s.structure.as_ref().map(|st| format!("{:?}", stability::interval(st.scheme()))),
+            "interval": s.structure.as_ref().map(|st| stability::interval(st.scheme()).label()),
+            "interval_omega_h": s.structure.as_ref().and_then(|st| match stability::interval(st.scheme()) {
+                stability::Interval::Bounded(y) => Some(y),
+                _ => None,
+            }),
             "stable_dt_s": e.stable_dt,
             "n_s": e.n_s,
             "n_s_seed": e.n_s_seed,

@@ -76,6 +76,13 @@ pub struct CouplingSection {
     pub timeout: f64,
 }
 
+impl CouplingSection {
+    /// The structure step Δt_s = Δt_f / n_s [s].
+    pub fn structure_dt(&self) -> f64 {
+        self.window / self.structure_substeps as f64
+    }
+}
+
 fn one() -> u32 {
     1
 }

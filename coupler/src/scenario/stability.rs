@@ -61,6 +61,17 @@ pub fn interval(scheme: Scheme) -> Interval {
     }
 }
 
+impl Interval {
+    /// A stable name for files: "unconditional", "bounded" or "empty".
+    pub fn label(&self) -> &'static str {
+        match self {
+            Interval::Unconditional => "unconditional",
+            Interval::Bounded(_) => "bounded",
+            Interval::Empty => "empty",
+        }
+    }
+}
+
 /// The sub-step estimate for one coupling window of length `window` [s].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Estimate {
@@ -102,9 +113,9 @@ pub fn warning(est: &Estimate, window: f64, substeps: u32, integrator: &str) -> 
     match est.stable_dt {
         Some(limit) if limit > 0.0 => (dt > limit).then(|| {
             format!(
-                "the structure step Δt_s = {dt:e} s is above {integrator}'s stability limit {limit:.3e} s \
-                 (ω_max·Δt_s = {y:.3} with ω_max = {:.4e} rad/s from seed 000 eq. 3.7); \
-                 structure_substeps = {} or more keeps it stable",
+                "the structure step Δt_s = {dt:e} s is above {limit:.3e} s, the step {integrator} \
+                 is sure to be stable at (ω_max·Δt_s = {y:.3} with ω_max = {:.4e} rad/s, seed 000 \
+                 eq. 3.7's upper bound); structure_substeps = {} or more guarantees it",
                 est.omega_max, est.n_s
             )
         }),

@@ -157,7 +157,9 @@ impl Integrator for DormandPrince {
             let remaining = h - done;
             let last = self.h_next >= remaining * (1.0 - 1e-12);
             let step = if last { remaining } else { self.h_next };
-            if step < SMALLEST * h || !step.is_finite() {
+            // The last step may be a sliver left by the one before; only a
+            // step the controller chose can be too small.
+            if (!last && step < SMALLEST * h) || !step.is_finite() {
                 return Err(StepError::StepTooSmall { step, time: done });
             }
             let err = self.trial(sys, step, x, v);
