@@ -11,3 +11,16 @@ pub mod reference;
 pub mod report;
 pub mod scenario;
 pub mod stability;
+
+use coupler::scenario::structure::Integrator;
+
+/// The distinct integrators of `items`, in the order they first appear.
+pub fn integrators_in(items: impl IntoIterator<Item = Integrator>) -> Vec<Integrator> {
+    let mut out: Vec<Integrator> = Vec::new();
+    for i in items {
+        if !out.contains(&i) {
+            out.push(i);
+        }
+    }
+    out
+}

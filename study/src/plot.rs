@@ -97,12 +97,7 @@ where
         .x_label_formatter(&|v| format!("{v:.0e}"))
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()?;
-    let mut integrators: Vec<Integrator> = Vec::new();
-    for r in &done {
-        if !integrators.contains(&r.integrator) {
-            integrators.push(r.integrator);
-        }
-    }
+    let integrators = crate::integrators_in(done.iter().map(|r| r.integrator));
     for (k, i) in integrators.iter().enumerate() {
         let colour = COLOURS[k % COLOURS.len()].to_rgba();
         let mut pts: Vec<(f64, f64)> = done
@@ -147,12 +142,7 @@ pub fn stability_map(
     svg: &Path,
 ) -> Result<(), Error> {
     register_font();
-    let mut integrators: Vec<Integrator> = Vec::new();
-    for c in cells {
-        if !integrators.contains(&c.integrator) {
-            integrators.push(c.integrator);
-        }
-    }
+    let integrators = crate::integrators_in(cells.iter().map(|c| c.integrator));
     let cols = integrators.len().clamp(1, 4);
     let rows = integrators.len().div_ceil(cols).max(1);
     let size = (380 * cols as u32, 340 * rows as u32 + 70);

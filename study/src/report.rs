@@ -4,7 +4,6 @@
 use crate::accuracy::{scheme, Run, Summary, ADAPTIVE_TOLERANCES, FIT_POINTS, FIT_RANGE};
 use crate::reference::Reference;
 use crate::stability::{predicted_omega_h, Cell, Chain, Limit, Outcome, BISECTIONS, GROWTH, STEPS};
-use coupler::scenario::structure::Integrator;
 use std::fmt::Write;
 use structure_proc::stability::{self, Interval};
 
@@ -121,17 +120,12 @@ pub fn stability_markdown(chain: &Chain, limits: &[Limit], ks: &[f64], dts: &[f6
         s,
         "| integrator | stability interval | predicted ω_max·h | measured ω_max·h (over k) | largest deviation |\n|---|---|---|---|---|"
     );
-    let mut done: Vec<Integrator> = Vec::new();
-    for l in limits {
-        if done.contains(&l.integrator) {
-            continue;
-        }
-        done.push(l.integrator);
+    for integrator in crate::integrators_in(limits.iter().map(|l| l.integrator)) {
         let mine: Vec<&Limit> = limits
             .iter()
-            .filter(|m| m.integrator == l.integrator)
+            .filter(|m| m.integrator == integrator)
             .collect();
-        let interval = match stability::interval(scheme(l.integrator)) {
+        let interval = match stability::interval(scheme(integrator)) {
             Interval::Unconditional => "unconditional".to_string(),
             Interval::Bounded(y) => format!("ω·h ≤ {y:.4}"),
             Interval::Empty => "empty".to_string(),
@@ -140,22 +134,21 @@ pub fn stability_markdown(chain: &Chain, limits: &[Limit], ks: &[f64], dts: &[f6
             .iter()
             .filter_map(|m| m.measured.map(|h| h * m.omega_max))
             .collect();
-        let measured = if mine.iter().all(|m| m.measured.is_none()) {
+        let range = format!(
+            "{:.4}–{:.4}",
+            y.iter().copied().fold(f64::MAX, f64::min),
+            y.iter().copied().fold(f64::MIN, f64::max)
+        );
+        let measured = if y.is_empty() {
             "stable on the whole grid".to_string()
         } else if y.len() < mine.len() {
+            let stable = mine.len() - y.len();
             format!(
-                "{:.4}–{:.4}, stable on the whole grid at {} of {} k",
-                y.iter().copied().fold(f64::MAX, f64::min),
-                y.iter().copied().fold(f64::MIN, f64::max),
-                mine.len() - y.len(),
+                "{range}, stable on the whole grid at {stable} of {} k",
                 mine.len()
             )
         } else {
-            format!(
-                "{:.4}–{:.4}",
-                y.iter().copied().fold(f64::MAX, f64::min),
-                y.iter().copied().fold(f64::MIN, f64::max)
-            )
+            range
         };
         let deviation = mine
             .iter()
@@ -164,9 +157,9 @@ pub fn stability_markdown(chain: &Chain, limits: &[Limit], ks: &[f64], dts: &[f6
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} |",
-            l.integrator.name(),
+            integrator.name(),
             interval,
-            or_dash(predicted_omega_h(l.integrator), |y| format!("{y:.4}")),
+            or_dash(predicted_omega_h(integrator), |y| format!("{y:.4}")),
             measured,
             or_dash(deviation, |d| format!("{:.1} %", 100.0 * d)),
         );
