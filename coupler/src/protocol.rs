@@ -50,16 +50,25 @@ pub enum Field {
     /// Impulse [N·s] the structure exerts on each attachment point over one impulse
     /// sub-step, 3 per point.
     AttachmentImpulse,
+    /// Rigid bodies at the end of every window, 13 per body: centre of mass [m],
+    /// its velocity [m/s], Euler parameters e₀…e₃ (A(e) of seed 000 eq. 3.5
+    /// takes world axes to body axes) and angular velocity in world axes [rad/s].
+    BodyStates,
+    /// Fluid load on each rigid body over one window, 6 per body: force [N]
+    /// (seed 000 eq. 2.40) and torque about the centre of mass [N·m], world axes.
+    BodyLoads,
 }
 
 impl Field {
-    pub const ALL: [Field; 6] = [
+    pub const ALL: [Field; 8] = [
         Field::CanopyTriangles,
         Field::CanopyPositions,
         Field::CanopyVelocities,
         Field::CanopyPressure,
         Field::AttachmentState,
         Field::AttachmentImpulse,
+        Field::BodyStates,
+        Field::BodyLoads,
     ];
 
     pub fn name(self) -> &'static str {
@@ -70,6 +79,8 @@ impl Field {
             Field::CanopyPressure => "canopy.pressure",
             Field::AttachmentState => "attachment.state",
             Field::AttachmentImpulse => "attachment.impulse",
+            Field::BodyStates => "body.states",
+            Field::BodyLoads => "body.loads",
         }
     }
 
@@ -82,6 +93,8 @@ impl Field {
             Field::CanopyPressure => (Role::Fluid, Role::Structure),
             Field::AttachmentState => (Role::Rigid, Role::Structure),
             Field::AttachmentImpulse => (Role::Structure, Role::Rigid),
+            Field::BodyStates => (Role::Rigid, Role::Fluid),
+            Field::BodyLoads => (Role::Fluid, Role::Rigid),
         }
     }
 

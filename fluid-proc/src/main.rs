@@ -20,6 +20,7 @@ fn run() -> Result<(), Error> {
         .clone()
         .ok_or("the scenario has no [fluid] section")?;
     let model = Porous::new(&section.porous_load());
+    let bodies = p.scenario().rigid.as_ref().map_or(0, |r| r.bodies.len());
     let mut triangles: Option<Vec<[usize; 3]>> = None;
     let mut windows = 0u64;
     loop {
@@ -28,6 +29,13 @@ fn run() -> Result<(), Error> {
             Command::Initialize => p.done(vec![Monitor::new("mean_pressure_jump", f64::NAN)])?,
             Command::Output { .. } => p.done(Vec::new())?,
             Command::Advance(_) => {
+                if p.is_connected(Field::BodyLoads) {
+                    // The porous free-stream model has no flow around bodies, so
+                    // it exerts no force on them: a body here is what seed 000
+                    // §2.4 calls a mass-point parachutist, outside the flow. The
+                    // pressure integral of eq. (2.40) comes with a flow field.
+                    p.write_field(Field::BodyLoads, 6 * bodies, |out| out.fill(0.0))?;
+                }
                 if !p.is_connected(Field::CanopyPositions) {
                     windows += 1;
                     p.done(Vec::new())?;

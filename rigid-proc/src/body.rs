@@ -1,100 +1,165 @@
-//! Point-mass bodies advanced by impulses (seed 000 §3.1.1 uses impulses for
-//! the string and collision loads; here they act at the centre of mass).
+//! One rigid body: its mass properties, its shape, and its state — centre of
+//! mass x, velocity v, Euler parameters e and angular velocity w in
+//! principal axes (seed 000 §2.1, §3.1.1).
 
-use coupler::scenario::RigidSection;
+use crate::euler_parameters::{self as ep, EulerParameters};
+use crate::mass::MassProperties;
+use crate::shape::Shape;
+use coupler::scenario::rigid::{BodySpec, Motion};
+use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct State {
+    /// Centre of mass [m], world axes.
+    pub x: Vector3<f64>,
+    /// Velocity of the centre of mass [m/s], world axes.
+    pub v: Vector3<f64>,
+    /// Orientation: A(e) takes world axes to principal body axes (eq. 3.5).
+    pub e: EulerParameters,
+    /// Angular velocity [rad/s] in principal body axes (eq. 2.12).
+    pub w: Vector3<f64>,
+}
+
+#[derive(Clone)]
 pub struct Body {
     pub name: String,
-    pub mass: f64,
-    pub x: [f64; 3],
-    pub v: [f64; 3],
+    pub motion: Motion,
+    pub mass: MassProperties,
+    pub shape: Option<Shape>,
     /// Linear viscous drag b [N·s/m].
     pub damping: f64,
+    pub state: State,
 }
 
-#[derive(Debug, Clone)]
-pub struct Bodies {
-    pub bodies: Vec<Body>,
-    pub gravity: [f64; 3],
-    /// For each attachment point (in `StructureSection::attachment_bodies` order), the body it belongs to.
-    pub attachment_body: Vec<usize>,
-}
+impl Body {
+    /// The body a scenario describes (mesh paths already absolute).
+    pub fn from_spec(spec: &BodySpec) -> Result<Body, String> {
+        let shape = spec.shape.as_ref().map(Shape::from_spec).transpose()?;
+        let mass = match &shape {
+            Some(s) => {
+                let unit = MassProperties::of_shape(s, 1.0);
+                MassProperties::of_shape(s, spec.density_of(unit.mass))
+            }
+            None => MassProperties::point(spec.mass.unwrap_or(0.0)),
+        };
+        // World ← own frame is the scenario's rotation R₀; world ← principal
+        // is then R₀·Q, so A = (R₀Q)ᵀ.
+        let r0 = spec.rotation();
+        let principal_to_world = Rotation3::from_matrix(&(r0.matrix() * mass.axes));
+        let x = Vector3::from(spec.position) + r0 * mass.centre;
+        let e = ep::from_rotation(&principal_to_world);
+        let w = ep::attitude(&e) * Vector3::from(spec.angular_velocity);
+        Ok(Body {
+            name: spec.name.clone(),
+            motion: spec.motion,
+            mass,
+            shape,
+            damping: spec.linear_damping,
+            state: State {
+                x,
+                v: Vector3::from(spec.velocity),
+                e,
+                w,
+            },
+        })
+    }
 
-impl Bodies {
-    /// Bodies of `[rigid]`; `attached` names the body of each attachment point.
-    pub fn new(s: &RigidSection, attached: &[&str]) -> Bodies {
-        let bodies: Vec<Body> = s
-            .bodies
-            .iter()
-            .map(|b| Body {
-                name: b.name.clone(),
-                mass: b.mass,
-                x: b.position,
-                v: b.velocity,
-                damping: b.linear_damping,
-            })
-            .collect();
-        let attachment_body = attached
-            .iter()
-            .map(|name| bodies.iter().position(|b| b.name == *name).unwrap_or(0))
-            .collect();
-        Bodies {
-            bodies,
-            gravity: s.gravity,
-            attachment_body,
+    /// A(e): world axes → principal axes.
+    pub fn attitude(&self) -> Matrix3<f64> {
+        ep::attitude(&self.state.e)
+    }
+
+    /// Angular velocity in world axes: Aᵀw.
+    pub fn world_angular_velocity(&self) -> Vector3<f64> {
+        self.attitude().transpose() * self.state.w
+    }
+
+    /// A point of the body's own frame in principal axes about the centre.
+    pub fn principal_point(&self, own: Vector3<f64>) -> Vector3<f64> {
+        self.mass.axes.transpose() * (own - self.mass.centre)
+    }
+
+    /// World position of a point given in principal axes: x + Aᵀr (eq. 3.6's
+    /// body → world transform).
+    pub fn world_point(&self, r: &Vector3<f64>) -> Vector3<f64> {
+        self.state.x + self.attitude().transpose() * r
+    }
+
+    /// Velocity of the body at world point `p`: v + ω × (p − x).
+    pub fn velocity_at(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        self.state.v + self.world_angular_velocity().cross(&(p - self.state.x))
+    }
+
+    /// 1/m for a dynamic body; 0 for static and prescribed ones, which no
+    /// load moves.
+    pub fn inv_mass(&self) -> f64 {
+        match self.motion {
+            Motion::Dynamic if self.mass.mass > 0.0 => 1.0 / self.mass.mass,
+            _ => 0.0,
         }
     }
 
-    /// Advance by `dt` with the impulses `impulse` (3 per attachment point) the
-    /// structure exerted over this step, plus gravity and drag:
-    /// v⁺ = v + (J + (m g − b v) dt)/m, then x⁺ = x + v⁺ dt (symplectic Euler).
-    pub fn step(&mut self, dt: f64, impulse: &[f64]) {
-        let mut j = vec![[0.0; 3]; self.bodies.len()];
-        for (a, imp) in impulse.chunks_exact(3).enumerate() {
-            if let Some(&b) = self.attachment_body.get(a) {
-                for c in 0..3 {
-                    j[b][c] += imp[c];
-                }
+    /// I⁻¹ in world axes, Aᵀ diag(1/Iᵢ) A; zero where a moment is zero (a
+    /// mass point) or the body is not dynamic.
+    pub fn world_inv_inertia(&self) -> Matrix3<f64> {
+        if self.inv_mass() == 0.0 {
+            return Matrix3::zeros();
+        }
+        let inv = self
+            .mass
+            .principal
+            .map(|i| if i > 0.0 { 1.0 / i } else { 0.0 });
+        let a = self.attitude();
+        a.transpose() * Matrix3::from_diagonal(&inv) * a
+    }
+
+    /// An impulse `j` [N·s] at world point `p`: Δv = j/m and, about the
+    /// centre, ΔL = r × j, so Δw = I⁻¹ A (r × j) in principal axes.
+    pub fn apply_impulse(&mut self, p: &Vector3<f64>, j: &Vector3<f64>) {
+        let inv_m = self.inv_mass();
+        if inv_m == 0.0 {
+            return;
+        }
+        self.state.v += j * inv_m;
+        let torque_impulse = self.attitude() * (p - self.state.x).cross(j);
+        for i in 0..3 {
+            if self.mass.principal[i] > 0.0 {
+                self.state.w[i] += torque_impulse[i] / self.mass.principal[i];
             }
         }
-        for (b, jb) in self.bodies.iter_mut().zip(&j) {
-            for c in 0..3 {
-                let force = b.mass * self.gravity[c] - b.damping * b.v[c];
-                b.v[c] += (jb[c] + force * dt) / b.mass;
-                b.x[c] += b.v[c] * dt;
-            }
-        }
     }
 
-    /// Position then velocity of every attachment point, 6 per point.
-    pub fn attachment_state(&self, out: &mut [f64]) {
-        for (o, &b) in out.chunks_exact_mut(6).zip(&self.attachment_body) {
-            let body = &self.bodies[b];
-            o[..3].copy_from_slice(&body.x);
-            o[3..].copy_from_slice(&body.v);
-        }
-    }
-
+    /// ½ m v² + ½ Σ Iᵢ wᵢ² [J].
     pub fn kinetic_energy(&self) -> f64 {
-        self.bodies
-            .iter()
-            .map(|b| 0.5 * b.mass * b.v.iter().map(|v| v * v).sum::<f64>())
-            .sum()
+        let s = &self.state;
+        let rotation: f64 = (0..3)
+            .map(|i| self.mass.principal[i] * s.w[i] * s.w[i])
+            .sum();
+        0.5 * (self.mass.mass * s.v.norm_squared() + rotation)
     }
 
-    /// Gravitational potential energy −m g·x [J].
-    pub fn potential_energy(&self) -> f64 {
-        self.bodies
-            .iter()
-            .map(|b| -b.mass * (0..3).map(|c| self.gravity[c] * b.x[c]).sum::<f64>())
-            .sum()
+    /// Angular momentum about the centre of mass, world axes: Aᵀ(I w) (eq. 2.5).
+    pub fn spin_momentum(&self) -> Vector3<f64> {
+        self.attitude().transpose() * self.mass.principal.component_mul(&self.state.w)
     }
 
-    pub fn first_non_finite(&self) -> Option<&str> {
-        self.bodies
-            .iter()
-            .find(|b| b.x.iter().chain(&b.v).any(|v| !v.is_finite()))
-            .map(|b| b.name.as_str())
+    /// World ← shape frame, for contact queries: the own-frame pose after
+    /// the shape's placement.
+    pub fn shape_pose(&self) -> Isometry3<f64> {
+        let placement = self
+            .shape
+            .as_ref()
+            .map_or(Isometry3::identity(), |s| s.placement);
+        self.own_pose() * placement
+    }
+
+    /// World ← own frame: an own-frame point p lands at x + AᵀQᵀ(p − c).
+    pub fn own_pose(&self) -> Isometry3<f64> {
+        let r = Rotation3::from_matrix_unchecked(
+            self.attitude().transpose() * self.mass.axes.transpose(),
+        );
+        let rotation = UnitQuaternion::from_rotation_matrix(&r);
+        let own_origin = self.state.x - r * self.mass.centre;
+        Isometry3::from_parts(Translation3::from(own_origin), rotation)
     }
 }

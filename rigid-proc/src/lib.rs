@@ -1,7 +1,17 @@
-//! rigid-proc: bodies that carry payloads and hold strings. This first version
-//! moves each body as a point mass at its centre of mass; rotation (seed 000
-//! §2.1, Euler's equations) comes with the rigid-body solver.
+//! rigid-proc's physics: rigid bodies with shapes and mass properties,
+//! Euler's equations with Euler parameters advanced by RK4, attachment
+//! impulses and rigid–rigid contacts with restitution (seed 000 §2.1, §2.4,
+//! §3.1.1, §3.4). Nothing here touches the coupling.
 
+pub mod bodies;
 pub mod body;
+pub mod contact;
+pub mod euler_parameters;
+pub mod mass;
+pub mod motion;
+pub mod rk4;
+pub mod shape;
 
-pub use body::{Bodies, Body};
+pub use bodies::Bodies;
+pub use body::{Body, State};
+pub use motion::Load;

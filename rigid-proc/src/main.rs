@@ -2,7 +2,8 @@
 
 use coupler::vtu::{CellKind, Piece, Series};
 use coupler::{Command, Field, Monitor, Participant, Role};
-use rigid_proc::Bodies;
+use nalgebra::Vector3;
+use rigid_proc::{Bodies, Load};
 
 type Error = Box<dyn std::error::Error>;
 
@@ -14,24 +15,98 @@ fn main() {
 }
 
 fn monitors(b: &Bodies) -> Vec<Monitor> {
+    let (p, l) = (b.momentum(), b.angular_momentum());
     let mut v = vec![
         Monitor::new("kinetic_energy", b.kinetic_energy()),
         Monitor::new("potential_energy", b.potential_energy()),
+        Monitor::new("momentum.x", p.x),
+        Monitor::new("momentum.y", p.y),
+        Monitor::new("momentum.z", p.z),
+        Monitor::new("angular_momentum", l.norm()),
+        Monitor::new("contact_impulses", b.contact_impulses as f64),
     ];
-    for body in &b.bodies {
-        for (c, axis) in ["x", "y", "z"].iter().enumerate() {
-            v.push(Monitor::new(format!("{}.{axis}", body.name), body.x[c]));
+    let xyz = ["x", "y", "z"];
+    for body in b
+        .bodies
+        .iter()
+        .filter(|body| body.inv_mass() > 0.0 || body.state.v != Vector3::zeros())
+    {
+        let s = &body.state;
+        let omega = body.world_angular_velocity();
+        for c in 0..3 {
+            v.push(Monitor::new(format!("{}.{}", body.name, xyz[c]), s.x[c]));
         }
-        for (c, axis) in ["vx", "vy", "vz"].iter().enumerate() {
-            v.push(Monitor::new(format!("{}.{axis}", body.name), body.v[c]));
+        for c in 0..3 {
+            v.push(Monitor::new(format!("{}.v{}", body.name, xyz[c]), s.v[c]));
+        }
+        if body.shape.is_some() {
+            for c in 0..3 {
+                v.push(Monitor::new(
+                    format!("{}.omega{}", body.name, xyz[c]),
+                    omega[c],
+                ));
+            }
+            // Angular velocity about each principal axis, wᵢ of eq. (2.12).
+            for c in 0..3 {
+                v.push(Monitor::new(format!("{}.w{}", body.name, c + 1), s.w[c]));
+            }
+            v.push(Monitor::new(
+                format!("{}.kinetic_energy", body.name),
+                body.kinetic_energy(),
+            ));
+            v.push(Monitor::new(
+                format!("{}.spin_momentum", body.name),
+                body.spin_momentum().norm(),
+            ));
         }
     }
     v
 }
 
-fn publish(p: &mut Participant, b: &Bodies) -> Result<(), Error> {
-    let n = 6 * b.attachment_body.len();
+fn publish(p: &mut Participant, b: &Bodies, window_end: bool) -> Result<(), Error> {
+    let n = 6 * b.attachments.len();
     p.write_field(Field::AttachmentState, n, |out| b.attachment_state(out))?;
+    if window_end && p.is_connected(Field::BodyStates) {
+        p.write_field(Field::BodyStates, 13 * b.bodies.len(), |out| {
+            for (o, body) in out.chunks_exact_mut(13).zip(&b.bodies) {
+                let s = &body.state;
+                o[0..3].copy_from_slice(s.x.as_slice());
+                o[3..6].copy_from_slice(s.v.as_slice());
+                o[6..10].copy_from_slice(s.e.as_slice());
+                o[10..13].copy_from_slice(body.world_angular_velocity().as_slice());
+            }
+        })?;
+    }
+    Ok(())
+}
+
+/// Every body's surface (mass points as vertices) for ParaView.
+fn write_surfaces(series: &mut Series, b: &Bodies, index: u64, time: f64) -> Result<(), Error> {
+    let mut points = Vec::new();
+    let mut velocity = Vec::new();
+    let mut triangles = Vec::new();
+    for body in &b.bodies {
+        let Some(shape) = &body.shape else { continue };
+        let pose = body.own_pose();
+        let (local, tris) = shape.surface();
+        let first = points.len() / 3;
+        for p in &local {
+            let w = (pose * p).coords;
+            points.extend_from_slice(w.as_slice());
+            velocity.extend_from_slice(body.velocity_at(&w).as_slice());
+        }
+        triangles.extend(tris.iter().flat_map(|t| t.map(|i| first + i as usize)));
+    }
+    series.write(
+        index,
+        time,
+        &Piece {
+            points: &points,
+            kind: CellKind::Triangle,
+            connectivity: &triangles,
+            point_data: vec![("velocity", 3, &velocity)],
+        },
+    )?;
     Ok(())
 }
 
@@ -42,21 +117,41 @@ fn run() -> Result<(), Error> {
         .rigid
         .as_ref()
         .ok_or("the scenario has no [rigid] section")?;
-    let attached: Vec<&str> = scenario
+    let attached = scenario
         .structure
+        .as_ref()
+        .map(|s| s.attachments())
+        .unwrap_or_default();
+    let mut bodies = Bodies::new(section, &attached)?;
+    // Centres of mass of every body, and the surfaces of bodies with shapes.
+    let mut centres = Series::new(p.run_dir(), "bodies");
+    let mut surfaces = bodies
+        .bodies
         .iter()
-        .flat_map(|s| s.attachment_bodies())
-        .collect();
-    let mut bodies = Bodies::new(section, &attached);
-    let mut series = Series::new(p.run_dir(), "bodies");
+        .any(|b| b.shape.is_some())
+        .then(|| Series::new(p.run_dir(), "body-surfaces"));
+    let mut loads: Vec<Load> = Vec::new();
+    let mut loads_window = None;
     let mut steps = 0u64;
     loop {
         match p.next_command()? {
             Command::Initialize => {
-                publish(&mut p, &bodies)?;
+                publish(&mut p, &bodies, true)?;
                 p.done(monitors(&bodies))?;
             }
             Command::Advance(step) => {
+                // The fluid sends one load per window; its sub-steps keep it.
+                if p.is_connected(Field::BodyLoads) && loads_window != Some(step.window) {
+                    let f = p.read_field(Field::BodyLoads)?;
+                    loads = f
+                        .chunks_exact(6)
+                        .map(|c| Load {
+                            force: Vector3::new(c[0], c[1], c[2]),
+                            torque: Vector3::new(c[3], c[4], c[5]),
+                        })
+                        .collect();
+                    loads_window = Some(step.window);
+                }
                 let impulse = match p.is_connected(Field::AttachmentImpulse) {
                     true => Some(p.read_field(Field::AttachmentImpulse)?),
                     false => None,
@@ -64,12 +159,11 @@ fn run() -> Result<(), Error> {
                 let h = step.dt / step.substeps as f64;
                 for k in 0..step.substeps {
                     // The impulse covers the whole step; apply it in the first sub-step.
-                    let j = if k == 0 {
-                        impulse.as_deref().unwrap_or(&[])
-                    } else {
-                        &[]
+                    let j = match k {
+                        0 => impulse.as_deref().unwrap_or(&[]),
+                        _ => &[],
                     };
-                    bodies.step(h, j);
+                    bodies.step(h, j, &loads);
                 }
                 steps += step.substeps as u64;
                 if let Some(name) = bodies.first_non_finite() {
@@ -80,7 +174,7 @@ fn run() -> Result<(), Error> {
                     p.fail(msg.clone())?;
                     return Err(msg.into());
                 }
-                publish(&mut p, &bodies)?;
+                publish(&mut p, &bodies, step.window_end)?;
                 p.done(if step.window_end {
                     monitors(&bodies)
                 } else {
@@ -88,19 +182,10 @@ fn run() -> Result<(), Error> {
                 })?;
             }
             Command::Output { index, time } => {
-                let points: Vec<f64> = bodies.bodies.iter().flat_map(|b| b.x).collect();
-                let vel: Vec<f64> = bodies.bodies.iter().flat_map(|b| b.v).collect();
-                let conn: Vec<usize> = (0..bodies.bodies.len()).collect();
-                series.write(
-                    index,
-                    time,
-                    &Piece {
-                        points: &points,
-                        kind: CellKind::Vertex,
-                        connectivity: &conn,
-                        point_data: vec![("velocity", 3, &vel)],
-                    },
-                )?;
+                write_points(&mut centres, &bodies, index, time)?;
+                if let Some(series) = &mut surfaces {
+                    write_surfaces(series, &bodies, index, time)?;
+                }
                 p.done(Vec::new())?;
             }
             Command::Stop => break,
@@ -108,5 +193,31 @@ fn run() -> Result<(), Error> {
         }
     }
     p.finish(steps)?;
+    Ok(())
+}
+
+/// Every body's centre of mass, as vertices.
+fn write_points(series: &mut Series, b: &Bodies, index: u64, time: f64) -> Result<(), Error> {
+    let points: Vec<f64> = b
+        .bodies
+        .iter()
+        .flat_map(|b| b.state.x.iter().copied().collect::<Vec<_>>())
+        .collect();
+    let vel: Vec<f64> = b
+        .bodies
+        .iter()
+        .flat_map(|b| b.state.v.iter().copied().collect::<Vec<_>>())
+        .collect();
+    let conn: Vec<usize> = (0..b.bodies.len()).collect();
+    series.write(
+        index,
+        time,
+        &Piece {
+            points: &points,
+            kind: CellKind::Vertex,
+            connectivity: &conn,
+            point_data: vec![("velocity", 3, &vel)],
+        },
+    )?;
     Ok(())
 }

@@ -16,7 +16,7 @@ use std::collections::BTreeSet;
 
 /// The model for `[structure]`, with structure step `dt` = Δt_s. The parachute's
 /// confluence and the strings attach to the bodies of `[rigid]`, numbered as
-/// [`StructureSection::attachment_bodies`] lists them.
+/// [`StructureSection::attachments`] lists them.
 pub fn build_model(
     s: &StructureSection,
     rigid: Option<&RigidSection>,
@@ -65,7 +65,7 @@ pub fn build_model(
         push_node(&mut m, st.anchor, NodeKind::Fixed);
         let body = rigid
             .and_then(|r| r.bodies.iter().find(|b| b.name == st.body))
-            .map(|b| b.position)
+            .map(|b| b.world_point(st.body_point))
             .unwrap_or(st.anchor);
         let end = m.nodes();
         let attachment = m.attachments.len();
@@ -141,7 +141,7 @@ fn add_parachute(
     };
     // Attached to a body, the canopy is placed above it; otherwise at `height`.
     let confluence = match body {
-        Some(b) => b.position,
+        Some(b) => b.world_point(p.body_point),
         None => [0.0, 0.0, p.height - drop],
     };
     let z = confluence[2] + drop;

@@ -153,12 +153,12 @@ fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
         p.body = Some("payload".into());
         s.rigid = Some(RigidSection {
             gravity,
+            restitution: None,
             bodies: vec![BodySpec {
                 name: "payload".into(),
-                mass: 100.0,
+                mass: Some(100.0),
                 position: start,
-                velocity: [0.0; 3],
-                linear_damping: 0.0,
+                ..Default::default()
             }],
         });
     });

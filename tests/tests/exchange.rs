@@ -290,15 +290,16 @@ fn three_participants_exchange_every_field_each_sub_step() {
             stiffness: 1e4,
             rest_length: 1.0,
             compressive_tolerance: 0.0,
+            body_point: [0.0; 3],
         });
         s.rigid = Some(RigidSection {
             gravity: [0.0, 0.0, -9.81],
+            restitution: None,
             bodies: vec![BodySpec {
                 name: "payload".into(),
-                mass: 1.0,
+                mass: Some(1.0),
                 position: [0.0, 0.0, -2.0],
-                velocity: [0.0; 3],
-                linear_damping: 0.0,
+                ..Default::default()
             }],
         });
     });

@@ -69,8 +69,8 @@ const CASES: &[Case] = &[
     Case {
         name: "missing-mass",
         edit: |t| replace(t, "mass = 1.0\n", ""),
-        key: Some("rigid.bodies[0]"),
-        says: "missing field `mass`",
+        key: Some("rigid.bodies[0].mass"),
+        says: "a mass point needs its mass",
         line_of: None,
     },
     Case {
@@ -404,6 +404,52 @@ const CASES: &[Case] = &[
         says: "participant `fluid` loads the canopy too",
         line_of: Some("[structure.porous]"),
     },
+    Case {
+        name: "missing-mesh",
+        edit: |t| {
+            replace(
+                t,
+                "mass = 1.0\n",
+                "mass = 1.0\nshape = { type = \"mesh\", file = \"nowhere.obj\" }\n",
+            )
+        },
+        key: Some("rigid.bodies[0].shape.file"),
+        says: "nowhere.obj: cannot read the mesh",
+        line_of: Some("shape = "),
+    },
+    Case {
+        name: "mass-and-density",
+        edit: |t| {
+            replace(
+                t,
+                "mass = 1.0\n",
+                "mass = 1.0\ndensity = 7800.0\nshape = { type = \"sphere\", radius = 0.1 }\n",
+            )
+        },
+        key: Some("rigid.bodies[0].mass"),
+        says: "exactly one of mass",
+        line_of: Some("mass = 1.0"),
+    },
+    Case {
+        name: "restitution-above-one",
+        edit: |t| replace(t, "[rigid]\n", "[rigid]\nrestitution = 1.5\n"),
+        key: Some("rigid.restitution"),
+        says: "must lie in [0, 1]",
+        line_of: Some("restitution = 1.5"),
+    },
+    Case {
+        name: "negative-radius",
+        edit: |t| {
+            replace(
+                t,
+                "mass = 1.0\n",
+                "mass = 1.0\nshape = { type = \"sphere\", radius = -0.1 }\n",
+            )
+        },
+        key: Some("rigid.bodies[0].shape.radius"),
+        says: "radius = -0.1 must be > 0 m",
+        line_of: Some("shape = "),
+    },
 ];
 
 /// The porous load of `[structure.porous]` (seed 003 eqs. 6–10), appended to a scenario.
@@ -477,7 +523,15 @@ fn a_missing_scenario_file_is_bad_input() {
 
 #[test]
 fn the_shipped_scenarios_pass_check() {
-    for name in ["pendulum", "canopy-porous"] {
+    for name in [
+        "pendulum",
+        "canopy-porous",
+        "pendulum-body",
+        "c9-drop-body",
+        "cuboids",
+        "spinning-top",
+        "ball-drop",
+    ] {
         let out = coupler(&["check", scenario_path(name).to_str().unwrap()]);
         assert!(
             out.status.success(),
@@ -485,4 +539,36 @@ fn the_shipped_scenarios_pass_check() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
+}
+
+#[test]
+fn a_bad_mesh_is_reported_with_its_own_line_and_the_scenario_key() {
+    // A face naming a vertex that does not exist, on line 3 of the mesh.
+    let dir = scratch("bad-mesh");
+    std::fs::write(dir.join("bad.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 99\n").unwrap();
+    let good = std::fs::read_to_string(scenario_path("pendulum")).unwrap();
+    let text = replace(
+        &good,
+        "mass = 1.0\n",
+        "mass = 1.0\nshape = { type = \"mesh\", file = \"bad.obj\" }\n",
+    );
+    let path = dir.join("mesh.toml");
+    std::fs::write(&path, &text).unwrap();
+    let out = coupler(&["check", path.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    let line = line_of(&text, "shape = ");
+    assert!(
+        stderr.contains(&format!("{}:{line}:", path.display())),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("key `rigid.bodies[0].shape.file`"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("bad.obj:3: face vertex 99 does not exist"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
 }

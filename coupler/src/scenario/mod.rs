@@ -5,6 +5,7 @@ mod check;
 mod error;
 pub mod fluid;
 pub mod integrator;
+pub mod mesh;
 pub mod parachute;
 pub mod rigid;
 mod spans;
@@ -144,7 +145,27 @@ impl Scenario {
     /// Read, parse and check a scenario file.
     pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
         let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::io(path, &e))?;
-        Scenario::parse(path, &text)
+        let mut scenario = Scenario::parse(path, &text)?;
+        // Files a scenario names are relative to it; read them now, so a bad
+        // mesh stops the run before any process starts.
+        let dir = path.parent().unwrap_or(Path::new("."));
+        if let Some(rigid) = &mut scenario.rigid {
+            rigid.resolve_meshes(dir).map_err(|(i, e)| {
+                let at = |k: &str| check::Seg::Key(k.into());
+                let problem = check::Problem {
+                    path: vec![
+                        at("rigid"),
+                        at("bodies"),
+                        check::Seg::Index(i),
+                        at("shape"),
+                        at("file"),
+                    ],
+                    message: e.to_string(),
+                };
+                ScenarioError::from_problem(path, &text, problem)
+            })?;
+        }
+        Ok(scenario)
     }
 
     /// Parse and check scenario text; `path` is only used in messages.

@@ -124,9 +124,13 @@ pub struct Parachute {
     /// A payload mass point at the confluence [kg] …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub payload_mass: Option<f64>,
-    /// … or the rigid body the confluence is attached to.
+    /// … or the rigid body the confluence is attached to, …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body: Option<String>,
+    /// … at this point of the body's own frame [m] (default its origin): where
+    /// the suspension lines meet the parachutist or cargo (seed 000 fig. 2.5).
+    #[serde(default)]
+    pub body_point: [f64; 3],
     /// Uneven lines (seed 000 §4.2.3).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub line_changes: Vec<LineChange>,
@@ -266,8 +270,17 @@ impl Parachute {
                 );
             }
             match (&self.payload_mass, &self.body) {
-                (Some(m), None) => c.positive(&["payload_mass"], *m, "kg"),
+                (Some(m), None) => {
+                    c.positive(&["payload_mass"], *m, "kg");
+                    if self.body_point != [0.0; 3] {
+                        c.problem(
+                            &["body_point"],
+                            "a mass-point payload has no body: body_point goes with body".into(),
+                        );
+                    }
+                }
                 (None, Some(b)) => {
+                    c.finite3(&["body_point"], self.body_point);
                     if let Some(msg) = has_body(b) {
                         c.problem(&["body"], msg);
                     }

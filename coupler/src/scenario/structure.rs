@@ -218,8 +218,11 @@ fn default_outer_nodes() -> u32 {
 pub struct StringSpec {
     /// Fixed end [m].
     pub anchor: [f64; 3],
-    /// Name of the rigid body the other end is attached to (at its centre of mass).
+    /// Name of the rigid body the other end is attached to …
     pub body: String,
+    /// … at this point of the body's own frame [m] (default its origin).
+    #[serde(default)]
+    pub body_point: [f64; 3],
     /// Axial stiffness k [N/m].
     pub stiffness: f64,
     /// Rest length l⁰ [m].
@@ -227,6 +230,14 @@ pub struct StringSpec {
     /// Compressive tolerance eps of seed 003 eq. (3) [m]: no force until stretched beyond it.
     #[serde(default)]
     pub compressive_tolerance: f64,
+}
+
+/// Where a structure node is attached to a rigid body: the body's name and
+/// the point in the body's own frame [m] (seed 000 fig. 2.5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AttachmentSpec<'a> {
+    pub body: &'a str,
+    pub point: [f64; 3],
 }
 
 /// A named mass point of a hand-built network.
@@ -263,10 +274,18 @@ impl StructureSection {
     /// The rigid body of every attachment point, in the order structure
     /// solvers number them and exchange their state and impulses: the
     /// parachute's confluence first, then the strings of `[[structure.strings]]`.
-    pub fn attachment_bodies(&self) -> Vec<&str> {
-        let confluence = self.parachute.iter().filter_map(|p| p.body.as_deref());
+    pub fn attachments(&self) -> Vec<AttachmentSpec<'_>> {
+        let confluence = self.parachute.iter().filter_map(|p| {
+            p.body.as_deref().map(|body| AttachmentSpec {
+                body,
+                point: p.body_point,
+            })
+        });
         confluence
-            .chain(self.strings.iter().map(|st| st.body.as_str()))
+            .chain(self.strings.iter().map(|st| AttachmentSpec {
+                body: &st.body,
+                point: st.body_point,
+            }))
             .collect()
     }
 
@@ -339,6 +358,7 @@ impl StructureSection {
                     c.positive(&["stiffness"], s.stiffness, "N/m");
                     c.positive(&["rest_length"], s.rest_length, "m");
                     c.finite_nonneg(&["compressive_tolerance"], s.compressive_tolerance);
+                    c.finite3(&["body_point"], s.body_point);
                     if let Some(msg) = body_problem(rigid, &s.body) {
                         c.problem(&["body"], msg);
                     }

@@ -1,0 +1,128 @@
+//! All the bodies of a scene and one impulse sub-step for them: the
+//! structure's impulses at their attachment points, rigid–rigid contacts,
+//! then every body advanced under gravity and the fluid's loads.
+
+use crate::body::Body;
+use crate::contact;
+use crate::motion::{advance, Load};
+use coupler::scenario::rigid::RigidSection;
+use coupler::scenario::structure::AttachmentSpec;
+use nalgebra::Vector3;
+
+#[derive(Clone)]
+pub struct Bodies {
+    pub bodies: Vec<Body>,
+    pub gravity: Vector3<f64>,
+    /// Each attachment point (in `StructureSection::attachments` order): its
+    /// body and its place in that body's principal axes about the centre.
+    pub attachments: Vec<(usize, Vector3<f64>)>,
+    /// C_R of each body, from its own value or the scene's.
+    restitution: Vec<f64>,
+    /// Contact impulses applied so far.
+    pub contact_impulses: u64,
+}
+
+impl Bodies {
+    /// The bodies of `[rigid]`; `attached` lists the attachment points.
+    pub fn new(s: &RigidSection, attached: &[AttachmentSpec]) -> Result<Bodies, String> {
+        let bodies = s
+            .bodies
+            .iter()
+            .map(|b| Body::from_spec(b).map_err(|e| format!("body `{}`: {e}", b.name)))
+            .collect::<Result<Vec<Body>, String>>()?;
+        let attachments = attached
+            .iter()
+            .map(|a| {
+                let i = bodies
+                    .iter()
+                    .position(|b| b.name == a.body)
+                    .ok_or_else(|| format!("no rigid body is named `{}`", a.body))?;
+                Ok((i, bodies[i].principal_point(Vector3::from(a.point))))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        let restitution = (0..s.bodies.len()).map(|i| s.restitution(i, i)).collect();
+        Ok(Bodies {
+            bodies,
+            gravity: Vector3::from(s.gravity),
+            attachments,
+            restitution,
+            contact_impulses: 0,
+        })
+    }
+
+    /// One sub-step of `h`: the impulses `impulse` (3 per attachment point,
+    /// world axes) act at their points, contacts are resolved, and every body
+    /// moves under gravity and `loads` (one per body, or none).
+    pub fn step(&mut self, h: f64, impulse: &[f64], loads: &[Load]) {
+        for (&(b, r), j) in self.attachments.iter().zip(impulse.chunks_exact(3)) {
+            let p = self.bodies[b].world_point(&r);
+            self.bodies[b].apply_impulse(&p, &Vector3::new(j[0], j[1], j[2]));
+        }
+        let contacts = contact::detect(&self.bodies, h);
+        if !contacts.is_empty() {
+            let cr = &self.restitution;
+            let n = contact::resolve(&mut self.bodies, &contacts, |a, b| 0.5 * (cr[a] + cr[b]), h);
+            self.contact_impulses += n as u64;
+        }
+        let none = Load::default();
+        for (i, body) in self.bodies.iter_mut().enumerate() {
+            advance(body, loads.get(i).unwrap_or(&none), &self.gravity, h);
+        }
+    }
+
+    /// Position then velocity of every attachment point, 6 per point.
+    pub fn attachment_state(&self, out: &mut [f64]) {
+        for (o, &(b, r)) in out.chunks_exact_mut(6).zip(&self.attachments) {
+            let body = &self.bodies[b];
+            let p = body.world_point(&r);
+            o[..3].copy_from_slice(p.as_slice());
+            o[3..].copy_from_slice(body.velocity_at(&p).as_slice());
+        }
+    }
+
+    pub fn kinetic_energy(&self) -> f64 {
+        self.bodies.iter().map(Body::kinetic_energy).sum()
+    }
+
+    /// Gravitational potential energy −Σ m g·x of the dynamic bodies [J].
+    pub fn potential_energy(&self) -> f64 {
+        self.bodies
+            .iter()
+            .filter(|b| b.inv_mass() > 0.0)
+            .map(|b| -b.mass.mass * self.gravity.dot(&b.state.x))
+            .sum()
+    }
+
+    /// Total linear momentum of the dynamic bodies [kg·m/s].
+    pub fn momentum(&self) -> Vector3<f64> {
+        self.bodies
+            .iter()
+            .filter(|b| b.inv_mass() > 0.0)
+            .map(|b| b.state.v * b.mass.mass)
+            .sum()
+    }
+
+    /// Total angular momentum of the dynamic bodies about the world origin:
+    /// Σ x × m v + Aᵀ I w [kg·m²/s].
+    pub fn angular_momentum(&self) -> Vector3<f64> {
+        self.bodies
+            .iter()
+            .filter(|b| b.inv_mass() > 0.0)
+            .map(|b| b.state.x.cross(&(b.state.v * b.mass.mass)) + b.spin_momentum())
+            .sum()
+    }
+
+    pub fn first_non_finite(&self) -> Option<&str> {
+        self.bodies
+            .iter()
+            .find(|b| {
+                let s = &b.state;
+                s.x.iter()
+                    .chain(&s.v)
+                    .chain(&s.e)
+                    .chain(&s.w)
+                    .any(|v| !v.is_finite())
+            })
+            .map(|b| b.name.as_str())
+    }
+}

@@ -1,0 +1,80 @@
+//! A body's geometry (seed 000 §2.4: the parachutist or cargo as a finite
+//! rigid body), held as a parry shape placed in the body's own frame.
+//! Geometry stays apart from dynamics: this file knows nothing of motion.
+
+use coupler::scenario::mesh::TriangleMesh;
+use coupler::scenario::rigid::ShapeSpec;
+use nalgebra::{Isometry3, Point3, Vector3};
+use parry3d_f64::shape::SharedShape;
+use std::f64::consts::FRAC_PI_2;
+
+/// Segments around a sphere or cylinder when it is drawn.
+const DRAW_SEGMENTS: u32 = 24;
+
+/// A shape and where it sits in the body's own frame.
+#[derive(Clone)]
+pub struct Shape {
+    pub shape: SharedShape,
+    /// Own frame ← shape frame. parry's cylinders run along y; ours along z.
+    pub placement: Isometry3<f64>,
+}
+
+impl Shape {
+    /// The shape a scenario describes; a mesh is read from its (absolute) file.
+    pub fn from_spec(spec: &ShapeSpec) -> Result<Shape, String> {
+        let at_origin = |shape| Shape {
+            shape,
+            placement: Isometry3::identity(),
+        };
+        Ok(match spec {
+            ShapeSpec::Sphere { radius } => at_origin(SharedShape::ball(*radius)),
+            ShapeSpec::Cuboid { size } => at_origin(SharedShape::cuboid(
+                size[0] / 2.0,
+                size[1] / 2.0,
+                size[2] / 2.0,
+            )),
+            ShapeSpec::Cylinder { radius, height } => Shape {
+                shape: SharedShape::cylinder(height / 2.0, *radius),
+                // A quarter turn about x takes parry's y axis to our z axis.
+                placement: Isometry3::rotation(Vector3::x() * FRAC_PI_2),
+            },
+            ShapeSpec::Mesh { file } => {
+                let mesh = TriangleMesh::read_obj(file).map_err(|e| e.to_string())?;
+                Shape::from_mesh(&mesh)?
+            }
+        })
+    }
+
+    pub fn from_mesh(mesh: &TriangleMesh) -> Result<Shape, String> {
+        let vertices = mesh.vertices.iter().map(|v| Point3::from(*v)).collect();
+        let shape = SharedShape::trimesh(vertices, mesh.triangles.clone())
+            .map_err(|e| format!("parry refused the mesh: {e:?}"))?;
+        Ok(Shape {
+            shape,
+            placement: Isometry3::identity(),
+        })
+    }
+
+    /// Radius of a sphere about the own frame's origin that holds the shape [m].
+    pub fn bounding_radius(&self) -> f64 {
+        let s = self.shape.compute_local_bounding_sphere();
+        (self.placement * s.center).coords.norm() + s.radius
+    }
+
+    /// A closed triangulation of the surface in the own frame, for output.
+    pub fn surface(&self) -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
+        let (points, triangles) = if let Some(b) = self.shape.as_ball() {
+            b.to_trimesh(DRAW_SEGMENTS, DRAW_SEGMENTS / 2)
+        } else if let Some(c) = self.shape.as_cuboid() {
+            c.to_trimesh()
+        } else if let Some(c) = self.shape.as_cylinder() {
+            c.to_trimesh(DRAW_SEGMENTS)
+        } else if let Some(m) = self.shape.as_trimesh() {
+            (m.vertices().to_vec(), m.indices().to_vec())
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let placed = points.iter().map(|p| self.placement * p).collect();
+        (placed, triangles)
+    }
+}
