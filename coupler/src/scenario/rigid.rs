@@ -96,15 +96,15 @@ pub enum ShapeSpec {
 }
 
 impl ShapeSpec {
-    /// The enclosed volume [m³]; a mesh must have been read (see
-    /// [`RigidSection::resolve_meshes`]) to be measured, else 0.
-    fn volume(&self, mesh: Option<&TriangleMesh>) -> f64 {
+    /// The enclosed volume of an analytic shape [m³]; 0 for a mesh, which
+    /// [`RigidSection::resolve_meshes`] weighs once it is read.
+    fn analytic_volume(&self) -> f64 {
         use std::f64::consts::PI;
         match self {
             ShapeSpec::Sphere { radius } => 4.0 / 3.0 * PI * radius.powi(3),
             ShapeSpec::Cuboid { size } => size.iter().product(),
             ShapeSpec::Cylinder { radius, height } => PI * radius * radius * height,
-            ShapeSpec::Mesh { .. } => mesh.map_or(0.0, TriangleMesh::volume),
+            ShapeSpec::Mesh { .. } => 0.0,
         }
     }
 }
@@ -273,7 +273,7 @@ fn check_mass(c: &mut Checker, b: &BodySpec) {
         ),
     }
     // Analytic shapes can be weighed now; a mesh is weighed once it is read.
-    let volume = shape.volume(None);
+    let volume = shape.analytic_volume();
     if volume > 0.0 && !b.density_of(volume).is_finite() {
         c.problem(&["mass"], "gives an infinite density for this shape".into());
     }
