@@ -5,7 +5,7 @@
 use crate::body::Body;
 use crate::contact;
 use crate::motion::{advance, Load};
-use coupler::scenario::rigid::RigidSection;
+use coupler::scenario::rigid::{pair_restitution, RigidSection};
 use coupler::scenario::structure::AttachmentSpec;
 use nalgebra::Vector3;
 
@@ -40,7 +40,7 @@ impl Bodies {
                 Ok((i, bodies[i].principal_point(Vector3::from(a.point))))
             })
             .collect::<Result<Vec<_>, String>>()?;
-        let restitution = (0..s.bodies.len()).map(|i| s.restitution(i, i)).collect();
+        let restitution = (0..s.bodies.len()).map(|i| s.body_restitution(i)).collect();
         Ok(Bodies {
             bodies,
             gravity: Vector3::from(s.gravity),
@@ -61,7 +61,12 @@ impl Bodies {
         let contacts = contact::detect(&self.bodies, h);
         if !contacts.is_empty() {
             let cr = &self.restitution;
-            let n = contact::resolve(&mut self.bodies, &contacts, |a, b| 0.5 * (cr[a] + cr[b]), h);
+            let n = contact::resolve(
+                &mut self.bodies,
+                &contacts,
+                |a, b| pair_restitution(cr[a], cr[b]),
+                h,
+            );
             self.contact_impulses += n as u64;
         }
         let none = Load::default();

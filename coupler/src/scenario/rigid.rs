@@ -132,15 +132,13 @@ impl BodySpec {
 }
 
 impl RigidSection {
-    /// The C_R of a contact between bodies `a` and `b`.
-    pub fn restitution(&self, a: usize, b: usize) -> f64 {
-        let of = |i: usize| {
-            self.bodies[i]
-                .restitution
-                .or(self.restitution)
-                .unwrap_or(0.0)
-        };
-        0.5 * (of(a) + of(b))
+    /// Body `i`'s C_R: its own value, else the scene's (0 if neither; the
+    /// check demands one wherever two shaped bodies can touch).
+    pub fn body_restitution(&self, i: usize) -> f64 {
+        self.bodies[i]
+            .restitution
+            .or(self.restitution)
+            .unwrap_or(0.0)
     }
 
     /// Make mesh paths absolute (relative to `dir`, the scenario's folder) and
@@ -216,6 +214,11 @@ impl RigidSection {
             }
         });
     }
+}
+
+/// The C_R of a contact between bodies whose own values are `a` and `b`: their mean.
+pub fn pair_restitution(a: f64, b: f64) -> f64 {
+    0.5 * (a + b)
 }
 
 fn check_restitution(c: &mut Checker, r: f64) {
