@@ -120,7 +120,7 @@ impl Participant {
         let mut outputs = HashMap::new();
         let mut inputs = HashMap::new();
         for field in Field::ALL {
-            if !field.is_connected(&setup.present) {
+            if !field.is_connected(&setup.present, &scenario) {
                 continue;
             }
             let (producer, consumer) = field.route();
@@ -170,7 +170,7 @@ impl Participant {
 
     /// Whether `field` is exchanged in this run (its producer and consumer both take part).
     pub fn is_connected(&self, field: Field) -> bool {
-        field.is_connected(&self.setup.present)
+        field.is_connected(&self.setup.present, &self.scenario)
     }
 
     /// Publish `len` values of `field`. `fill` receives the loaned shared-memory

@@ -4,6 +4,7 @@
 //! bincode 2. Bulk data travels as [`Field`]s: flat `[f64]` slices in shared
 //! memory, written and read in place.
 
+use crate::scenario::Scenario;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -57,10 +58,19 @@ pub enum Field {
     /// Fluid load on each rigid body over one window, 6 per body: force [N]
     /// (seed 000 eq. 2.40) and torque about the centre of mass [N·m], world axes.
     BodyLoads,
+    /// Rigid bodies at the start of every impulse sub-step, laid out as
+    /// [`Field::BodyStates`]: the obstacles of the structure's collision pass.
+    /// Exchanged only when the scenario has `[structure.collision]`.
+    CollisionBodies,
+    /// What the structure's collisions gave each rigid body over one impulse
+    /// sub-step, 6 per body: the linear impulse [N·s] and the angular impulse
+    /// about the centre of mass sent in [`Field::CollisionBodies`] [N·m·s],
+    /// world axes. Exchanged only with `[structure.collision]`.
+    CollisionImpulse,
 }
 
 impl Field {
-    pub const ALL: [Field; 8] = [
+    pub const ALL: [Field; 10] = [
         Field::CanopyTriangles,
         Field::CanopyPositions,
         Field::CanopyVelocities,
@@ -69,6 +79,8 @@ impl Field {
         Field::AttachmentImpulse,
         Field::BodyStates,
         Field::BodyLoads,
+        Field::CollisionBodies,
+        Field::CollisionImpulse,
     ];
 
     pub fn name(self) -> &'static str {
@@ -81,6 +93,8 @@ impl Field {
             Field::AttachmentImpulse => "attachment.impulse",
             Field::BodyStates => "body.states",
             Field::BodyLoads => "body.loads",
+            Field::CollisionBodies => "collision.bodies",
+            Field::CollisionImpulse => "collision.impulse",
         }
     }
 
@@ -95,13 +109,23 @@ impl Field {
             Field::AttachmentImpulse => (Role::Structure, Role::Rigid),
             Field::BodyStates => (Role::Rigid, Role::Fluid),
             Field::BodyLoads => (Role::Fluid, Role::Rigid),
+            Field::CollisionBodies => (Role::Rigid, Role::Structure),
+            Field::CollisionImpulse => (Role::Structure, Role::Rigid),
         }
     }
 
-    /// A field is exchanged only when both its producer and consumer take part.
-    pub fn is_connected(self, present: &[Role]) -> bool {
+    /// A field is exchanged only when both its producer and consumer take
+    /// part, and the collision fields only when the scene asks for collisions.
+    pub fn is_connected(self, present: &[Role], scenario: &Scenario) -> bool {
         let (p, c) = self.route();
-        present.contains(&p) && present.contains(&c)
+        let wanted = match self {
+            Field::CollisionBodies | Field::CollisionImpulse => scenario
+                .structure
+                .as_ref()
+                .is_some_and(|s| s.collision.is_some()),
+            _ => true,
+        };
+        wanted && present.contains(&p) && present.contains(&c)
     }
 }
 

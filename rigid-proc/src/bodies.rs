@@ -2,7 +2,7 @@
 //! structure's impulses at their attachment points, rigid–rigid contacts,
 //! then every body advanced under gravity and the fluid's loads.
 
-use crate::body::Body;
+use crate::body::{Body, STATE_LEN};
 use crate::contact;
 use crate::motion::{advance, Load};
 use coupler::scenario::rigid::{pair_restitution, RigidSection};
@@ -72,6 +72,24 @@ impl Bodies {
         let none = Load::default();
         for (i, body) in self.bodies.iter_mut().enumerate() {
             advance(body, loads.get(i).unwrap_or(&none), &self.gravity, h);
+        }
+    }
+
+    /// Every body's state, [`STATE_LEN`] values per body.
+    pub fn write_states(&self, out: &mut [f64]) {
+        for (o, body) in out.chunks_exact_mut(STATE_LEN).zip(&self.bodies) {
+            body.write_state(o);
+        }
+    }
+
+    /// The momentum the structure's collisions gave each body, 6 per body:
+    /// linear then angular impulse about the centre (world axes).
+    pub fn apply_momenta(&mut self, momenta: &[f64]) {
+        for (body, m) in self.bodies.iter_mut().zip(momenta.chunks_exact(6)) {
+            body.apply_momentum(
+                &Vector3::new(m[0], m[1], m[2]),
+                &Vector3::new(m[3], m[4], m[5]),
+            );
         }
     }
 

@@ -8,6 +8,9 @@ use crate::shape::Shape;
 use coupler::scenario::rigid::{BodySpec, Motion};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
+/// Values per body in the exchanged state (see [`Body::write_state`]).
+pub const STATE_LEN: usize = 13;
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct State {
     /// Centre of mass [m], world axes.
@@ -64,6 +67,24 @@ impl Body {
         })
     }
 
+    /// Write the state as the bodies' fields carry it ([`STATE_LEN`] values):
+    /// x, v, e₀…e₃, and ω in world axes.
+    pub fn write_state(&self, out: &mut [f64]) {
+        let s = &self.state;
+        out[0..3].copy_from_slice(s.x.as_slice());
+        out[3..6].copy_from_slice(s.v.as_slice());
+        out[6..10].copy_from_slice(s.e.as_slice());
+        out[10..13].copy_from_slice(self.world_angular_velocity().as_slice());
+    }
+
+    /// Take the state [`Body::write_state`] wrote.
+    pub fn read_state(&mut self, c: &[f64]) {
+        self.state.x = Vector3::new(c[0], c[1], c[2]);
+        self.state.v = Vector3::new(c[3], c[4], c[5]);
+        self.state.e = EulerParameters::new(c[6], c[7], c[8], c[9]);
+        self.state.w = self.attitude() * Vector3::new(c[10], c[11], c[12]);
+    }
+
     /// A(e): world axes → principal axes.
     pub fn attitude(&self) -> Matrix3<f64> {
         ep::attitude(&self.state.e)
@@ -114,19 +135,33 @@ impl Body {
     }
 
     /// An impulse `j` [N·s] at world point `p`: Δv = j/m and, about the
-    /// centre, ΔL = r × j, so Δw = I⁻¹ A (r × j) in principal axes.
+    /// centre, ΔL = r × j.
     pub fn apply_impulse(&mut self, p: &Vector3<f64>, j: &Vector3<f64>) {
+        self.apply_momentum(j, &(p - self.state.x).cross(j));
+    }
+
+    /// A linear impulse `j` [N·s] and an angular impulse `l` about the centre
+    /// [N·m·s], world axes: Δv = j/m and Δw = I⁻¹ A l in principal axes.
+    pub fn apply_momentum(&mut self, j: &Vector3<f64>, l: &Vector3<f64>) {
         let inv_m = self.inv_mass();
         if inv_m == 0.0 {
             return;
         }
         self.state.v += j * inv_m;
-        let torque_impulse = self.attitude() * (p - self.state.x).cross(j);
+        let body_l = self.attitude() * l;
         for i in 0..3 {
             if self.mass.principal[i] > 0.0 {
-                self.state.w[i] += torque_impulse[i] / self.mass.principal[i];
+                self.state.w[i] += body_l[i] / self.mass.principal[i];
             }
         }
+    }
+
+    /// How readily the body's velocity at world point `p` along the unit
+    /// normal `n` yields to an impulse along `n` [1/kg]: 1/m + n·((I⁻¹(r×n))×r),
+    /// the body's term in the denominator of the contact impulse.
+    pub fn inv_effective_mass(&self, p: &Vector3<f64>, n: &Vector3<f64>) -> f64 {
+        let r = p - self.state.x;
+        self.inv_mass() + n.dot(&(self.world_inv_inertia() * r.cross(n)).cross(&r))
     }
 
     /// ½ m v² + ½ Σ Iᵢ wᵢ² [J].

@@ -106,11 +106,8 @@ pub fn resolve(
             if vn >= 0.0 || c.gap + vn * h > 0.0 {
                 continue;
             }
-            let (ra, rb) = (c.point - a.state.x, c.point - b.state.x);
             let n = c.normal;
-            let turn =
-                |body: &Body, r: &Vector3<f64>| (body.world_inv_inertia() * r.cross(&n)).cross(r);
-            let k = a.inv_mass() + b.inv_mass() + n.dot(&(turn(a, &ra) + turn(b, &rb)));
+            let k = a.inv_effective_mass(&c.point, &n) + b.inv_effective_mass(&c.point, &n);
             if k <= 0.0 {
                 continue;
             }

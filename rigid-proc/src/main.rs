@@ -3,6 +3,7 @@
 use coupler::vtu::{CellKind, Piece, Series};
 use coupler::{Command, Field, Monitor, Participant, Role};
 use nalgebra::Vector3;
+use rigid_proc::body::STATE_LEN;
 use rigid_proc::{Bodies, Load};
 
 type Error = Box<dyn std::error::Error>;
@@ -66,16 +67,10 @@ fn monitors(b: &Bodies) -> Vec<Monitor> {
 fn publish(p: &mut Participant, b: &Bodies, window_end: bool) -> Result<(), Error> {
     let n = 6 * b.attachments.len();
     p.write_field(Field::AttachmentState, n, |out| b.attachment_state(out))?;
-    if window_end && p.is_connected(Field::BodyStates) {
-        p.write_field(Field::BodyStates, 13 * b.bodies.len(), |out| {
-            for (o, body) in out.chunks_exact_mut(13).zip(&b.bodies) {
-                let s = &body.state;
-                o[0..3].copy_from_slice(s.x.as_slice());
-                o[3..6].copy_from_slice(s.v.as_slice());
-                o[6..10].copy_from_slice(s.e.as_slice());
-                o[10..13].copy_from_slice(body.world_angular_velocity().as_slice());
-            }
-        })?;
+    let n = STATE_LEN * b.bodies.len();
+    p.write_field(Field::CollisionBodies, n, |out| b.write_states(out))?;
+    if window_end {
+        p.write_field(Field::BodyStates, n, |out| b.write_states(out))?;
     }
     Ok(())
 }
@@ -156,6 +151,9 @@ fn run() -> Result<(), Error> {
                     true => Some(p.read_field(Field::AttachmentImpulse)?),
                     false => None,
                 };
+                if p.is_connected(Field::CollisionImpulse) {
+                    bodies.apply_momenta(&p.read_field(Field::CollisionImpulse)?);
+                }
                 let h = step.dt / step.substeps as f64;
                 for k in 0..step.substeps {
                     // The impulse covers the whole step; apply it in the first sub-step.

@@ -5,7 +5,7 @@
 use coupler::scenario::mesh::TriangleMesh;
 use coupler::scenario::rigid::ShapeSpec;
 use nalgebra::{Isometry3, Point3, Vector3};
-use parry3d_f64::shape::SharedShape;
+use parry3d_f64::shape::{SharedShape, TriMeshFlags};
 use std::f64::consts::FRAC_PI_2;
 
 /// Segments around a sphere or cylinder when it is drawn.
@@ -47,8 +47,14 @@ impl Shape {
 
     pub fn from_mesh(mesh: &TriangleMesh) -> Result<Shape, String> {
         let vertices = mesh.vertices.iter().map(|v| Point3::from(*v)).collect();
-        let shape = SharedShape::trimesh(vertices, mesh.triangles.clone())
-            .map_err(|e| format!("parry refused the mesh: {e:?}"))?;
+        // The reader has checked the mesh closed and outward: ORIENTED lets
+        // point queries tell inside from outside by pseudo-normals.
+        let shape = SharedShape::trimesh_with_flags(
+            vertices,
+            mesh.triangles.clone(),
+            TriMeshFlags::ORIENTED,
+        )
+        .map_err(|e| format!("parry refused the mesh: {e:?}"))?;
         Ok(Shape {
             shape,
             placement: Isometry3::identity(),

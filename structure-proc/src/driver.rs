@@ -5,6 +5,7 @@
 //! lines, sends back impulses, canopy state and monitors, and writes output.
 //! The physics stays in the stepper; the IPC stays here and in `coupler`.
 
+use crate::collision::Obstacles;
 use crate::divergence::Watch;
 use crate::forces::Loads;
 use crate::integrators::{Integrator, StepError};
@@ -117,14 +118,28 @@ fn omega_max_of<S: Stepper>(
     Ok(omega_max(&m.inv_mass, &m.couplings))
 }
 
-/// What the structure reports at every window end: energies, its ω_max
+/// What the structure reports at every window end: energies, momentum, the
+/// node–body impulses given so far and their sum (with collisions), its ω_max
 /// bound (constant, for the coupler's stability estimate; only when it runs
 /// the scenario's integrator), the canopy's deflection and the named points.
-fn monitors(m: &Model, omega_max: Option<f64>) -> Vec<Monitor> {
+fn monitors(m: &Model, omega_max: Option<f64>, obstacles: Option<&Obstacles>) -> Vec<Monitor> {
+    let p = m.momentum();
     let mut v = vec![
         Monitor::new("kinetic_energy", m.kinetic_energy()),
         Monitor::new("potential_energy", m.potential_energy()),
+        Monitor::new("momentum.x", p[0]),
+        Monitor::new("momentum.y", p[1]),
+        Monitor::new("momentum.z", p[2]),
     ];
+    if let Some(o) = obstacles {
+        v.push(Monitor::new("collision_impulses", o.impulses as f64));
+        for (c, axis) in ["x", "y", "z"].iter().enumerate() {
+            v.push(Monitor::new(
+                format!("collision_impulse.{axis}"),
+                o.received[c],
+            ));
+        }
+    }
     if let Some(w) = omega_max {
         v.push(Monitor::new(OMEGA_MAX_MONITOR, w));
     }
@@ -182,6 +197,10 @@ pub fn run<S: Stepper>(
         scenario.rigid.as_ref(),
         scenario.coupling.structure_dt(),
     )?;
+    let mut obstacles = match (&section.collision, &scenario.rigid) {
+        (Some(spec), Some(rigid)) => Some(Obstacles::new(rigid, spec)?),
+        _ => None,
+    };
     let mut watch = Watch::new(&m, &scenario);
     let mut stepper = make(section, &m)?;
     let omega_max = stepper
@@ -195,7 +214,7 @@ pub fn run<S: Stepper>(
         match p.next_command()? {
             Command::Initialize => {
                 publish_canopy(&mut p, &m, true)?;
-                p.done(monitors(&m, omega_max))?;
+                p.done(monitors(&m, omega_max, obstacles.as_ref()))?;
             }
             Command::Advance(step) => {
                 // The fluid publishes one pressure per window; impulse sub-steps
@@ -212,6 +231,9 @@ pub fn run<S: Stepper>(
                         watch.raise(speed, "the fastest rigid body");
                     }
                 }
+                if let Some(o) = &mut obstacles {
+                    o.set_states(&p.read_field(Field::CollisionBodies)?);
+                }
                 let loads = Loads {
                     pressure: pressure.as_deref().unwrap_or(&[]),
                 };
@@ -219,10 +241,16 @@ pub fn run<S: Stepper>(
                 m.time = step.time;
                 let mut failure = None;
                 for k in 0..step.substeps {
+                    if let Some(o) = &mut obstacles {
+                        o.begin_step(&m.x);
+                    }
                     if let Err(e) = stepper.step(&mut m, &loads) {
                         let t = step.time + k as f64 * m.dt;
                         failure = Some(format!("{} failed at t = {t:.6e} s: {e}", stepper.name()));
                         break;
+                    }
+                    if let Some(o) = &mut obstacles {
+                        o.resolve(&mut m.x, &mut m.v, &m.inv_mass, m.dt);
                     }
                     for event in m.break_lines() {
                         eprintln!("{event}");
@@ -247,9 +275,14 @@ pub fn run<S: Stepper>(
                         o.copy_from_slice(&a.impulse);
                     }
                 })?;
+                if let Some(o) = &obstacles {
+                    p.write_field(Field::CollisionImpulse, o.momenta.len(), |out| {
+                        out.copy_from_slice(&o.momenta)
+                    })?;
+                }
                 if step.window_end {
                     publish_canopy(&mut p, &m, false)?;
-                    p.done(monitors(&m, omega_max))?;
+                    p.done(monitors(&m, omega_max, obstacles.as_ref()))?;
                 } else {
                     p.done(Vec::new())?;
                 }

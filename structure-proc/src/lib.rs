@@ -9,6 +9,7 @@
 
 pub mod annulus;
 pub mod build;
+pub mod collision;
 pub mod cross;
 pub mod divergence;
 pub mod driver;

@@ -91,6 +91,17 @@ impl Model {
             .sum()
     }
 
+    /// Linear momentum Σ m v of the free nodes [kg·m/s].
+    pub fn momentum(&self) -> [f64; 3] {
+        let mut p = [0.0; 3];
+        for n in 0..self.nodes() {
+            for (c, pc) in p.iter_mut().enumerate() {
+                *pc += self.mass[n] * self.v[3 * n + c];
+            }
+        }
+        p
+    }
+
     /// Elastic energy of springs and membrane plus gravitational energy of the masses [J].
     pub fn potential_energy(&self) -> f64 {
         crate::forces::elastic_energy(self, &self.x) + crate::forces::gravity_energy(self, &self.x)

@@ -367,6 +367,20 @@ const CASES: &[Case] = &[
         line_of: Some("tolerance = 0.0"),
     },
     Case {
+        name: "collision-without-a-shaped-body",
+        edit: |t| format!("{t}\n[structure.collision]\nthickness = 1e-3\n"),
+        key: Some("structure.collision"),
+        says: "no [[rigid.bodies]] entry has a shape",
+        line_of: Some("[structure.collision]"),
+    },
+    Case {
+        name: "collision-thickness-negative",
+        edit: |t| format!("{t}\n[structure.collision]\nthickness = -1e-3\n"),
+        key: Some("structure.collision.thickness"),
+        says: "must be > 0 m",
+        line_of: Some("thickness = -1e-3"),
+    },
+    Case {
         name: "spring-to-unknown-point",
         edit: |t| {
             format!("{t}\n[[structure.points]]\nname = \"p\"\nposition = [0.0, 0.0, 1.0]\nfixed = true\n\n[[structure.springs]]\nends = [\"p\", \"q\"]\nstiffness = 1.0\n")
@@ -531,6 +545,9 @@ fn the_shipped_scenarios_pass_check() {
         "cuboids",
         "spinning-top",
         "ball-drop",
+        "point-ball",
+        "cloth-drop",
+        "ball-cloth",
     ] {
         let out = coupler(&["check", scenario_path(name).to_str().unwrap()]);
         assert!(

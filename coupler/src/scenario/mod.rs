@@ -2,6 +2,7 @@
 //! checked, every problem reported as one message naming the file, line and key.
 
 mod check;
+pub mod collision;
 mod error;
 pub mod fluid;
 pub mod integrator;

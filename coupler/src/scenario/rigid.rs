@@ -221,7 +221,7 @@ pub fn pair_restitution(a: f64, b: f64) -> f64 {
     0.5 * (a + b)
 }
 
-fn check_restitution(c: &mut Checker, r: f64) {
+pub(super) fn check_restitution(c: &mut Checker, r: f64) {
     if !(0.0..=1.0).contains(&r) {
         c.problem(
             &["restitution"],

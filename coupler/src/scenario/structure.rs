@@ -1,6 +1,7 @@
 //! `[structure]`: the spring-mass canopy and strings (seed 003 §2.1, §3.2).
 
 use super::check::Checker;
+pub use super::collision::Collision;
 use super::fluid::PorousLoad;
 pub use super::integrator::{
     AdaptiveParams, HhtParams, Integrator, NewmarkParams, NewtonParams, Scheme,
@@ -66,6 +67,9 @@ pub struct StructureSection {
     /// porous scenes without a fluid process.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub porous: Option<PorousLoad>,
+    /// Free nodes against the rigid bodies' shapes (seed 000 §2.5, §3.4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collision: Option<Collision>,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -321,6 +325,9 @@ impl StructureSection {
             }
             if let Some(cl) = &self.cloth {
                 cl.check(c);
+            }
+            if let Some(k) = &self.collision {
+                k.check(c, rigid);
             }
             super::integrator::check_params(c, &self.newmark, &self.hht, &self.newton, &self.adaptive);
             match (self.damping, self.damping_coefficient) {

@@ -64,6 +64,7 @@ pub fn canopy(e: Elasticity, gravity: [f64; 3], damping: Option<Law>) -> Model {
         points: vec![],
         springs: vec![],
         porous: None,
+        collision: None,
     };
     structure_proc::build_model(&section, None, 1e-3).unwrap()
 }
