@@ -1,7 +1,21 @@
-//! fluid-proc: the flow models that load the canopy. For now the porous
-//! free-stream model of seed 003 §2.1, whose law lives in the `porous` crate
-//! (structure solvers apply the same law with `[structure.porous]`); the
-//! physics never touches IPC.
+//! fluid-proc: the flow models that load the canopy and the bodies.
+//!
+//! - The porous free-stream model of seed 003 §2.1, whose law lives in the
+//!   `porous` crate (structure solvers apply the same law with
+//!   `[structure.porous]`); it is what the scenes run today.
+//! - The incompressible solver of seed 000 §3.2.2, being built (issue 6):
+//!   the uniform box of cells and its sides (`grid.rs`), the pressure
+//!   operator (`laplacian.rs`), its multigrid-preconditioned conjugate
+//!   gradient solve (`multigrid.rs`, `poisson.rs`) and the projection on the
+//!   staggered grid (`mac.rs`).
+//!
+//! The physics never touches IPC.
+
+pub mod grid;
+pub mod laplacian;
+pub mod mac;
+pub mod multigrid;
+pub mod poisson;
 
 pub use porous::Porous;
 

@@ -1,0 +1,96 @@
+//! A uniform box of cells for the cell-centred pressure (seed 000 §3.2.2):
+//! sizes, spacing, and what each of the six sides imposes on the pressure
+//! correction φ. A 2-D flow is one cell thick in z with periodic z sides.
+//!
+//! Cells are numbered x fastest: `i + nx·(j + ny·k)`.
+
+/// What a side of the box imposes on φ in the projection (eq. 3.19).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bc {
+    /// ∂φ/∂n = 0: a wall or an inflow, where the normal velocity is given.
+    Neumann,
+    /// φ = 0 on the side: an outflow at p = 0.
+    Dirichlet,
+    /// Wraps to the opposite side (which must be periodic too).
+    Periodic,
+}
+
+/// Where a cell's neighbour across one of its faces lies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Neighbour {
+    Cell(usize),
+    /// The face is a side of the box with this condition (not periodic).
+    Side(Bc),
+}
+
+/// A box of `n` cells with spacings `h` and one condition per side
+/// (`bc[d] = [low, high]` along axis d).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    pub n: [usize; 3],
+    pub h: [f64; 3],
+    pub bc: [[Bc; 2]; 3],
+}
+
+impl Grid {
+    pub fn cells(&self) -> usize {
+        self.n[0] * self.n[1] * self.n[2]
+    }
+
+    pub fn index(&self, c: [usize; 3]) -> usize {
+        c[0] + self.n[0] * (c[1] + self.n[1] * c[2])
+    }
+
+    pub fn coords(&self, mut i: usize) -> [usize; 3] {
+        let x = i % self.n[0];
+        i /= self.n[0];
+        [x, i % self.n[1], i / self.n[1]]
+    }
+
+    /// The neighbour of cell `c` along axis `d`, below (`up = false`) or above.
+    pub fn neighbour(&self, c: [usize; 3], d: usize, up: bool) -> Neighbour {
+        let n = self.n[d];
+        let at_side = if up { c[d] + 1 == n } else { c[d] == 0 };
+        if !at_side {
+            let mut m = c;
+            m[d] = if up { c[d] + 1 } else { c[d] - 1 };
+            return Neighbour::Cell(self.index(m));
+        }
+        match self.bc[d][up as usize] {
+            Bc::Periodic => {
+                let mut m = c;
+                m[d] = if up { 0 } else { n - 1 };
+                Neighbour::Cell(self.index(m))
+            }
+            side => Neighbour::Side(side),
+        }
+    }
+
+    /// Whether φ is fixed anywhere; if not, it is defined up to a constant.
+    pub fn has_dirichlet(&self) -> bool {
+        self.bc.iter().flatten().any(|&b| b == Bc::Dirichlet)
+    }
+
+    /// A side named periodic whose opposite side is not.
+    pub fn unpaired_periodic(&self) -> Option<usize> {
+        (0..3).find(|&d| (self.bc[d][0] == Bc::Periodic) != (self.bc[d][1] == Bc::Periodic))
+    }
+
+    /// The grid with twice the spacing along every axis that can halve (an
+    /// even count of at least 4 cells; periodic axes also from 2), or None
+    /// when none can.
+    pub fn coarsened(&self) -> Option<Grid> {
+        let mut g = self.clone();
+        let mut any = false;
+        for d in 0..3 {
+            let n = self.n[d];
+            let min = if self.bc[d][0] == Bc::Periodic { 2 } else { 4 };
+            if n.is_multiple_of(2) && n >= min {
+                g.n[d] = n / 2;
+                g.h[d] = 2.0 * self.h[d];
+                any = true;
+            }
+        }
+        any.then_some(g)
+    }
+}
