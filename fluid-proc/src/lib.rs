@@ -6,8 +6,8 @@
 //! - The incompressible solver of seed 000 §3.2.2, being built (issue 6):
 //!   the uniform box of cells and its sides (`grid.rs`), the pressure
 //!   operator (`laplacian.rs`), its multigrid-preconditioned conjugate
-//!   gradient solve (`multigrid.rs`, `poisson.rs`) and the projection on the
-//!   staggered grid (`mac.rs`).
+//!   gradient solve (`multigrid.rs`, `poisson.rs`), the projection on the
+//!   staggered grid (`mac.rs`) and the WENO5 reconstruction (`weno5.rs`).
 //!
 //! The physics never touches IPC.
 
@@ -16,6 +16,7 @@ pub mod laplacian;
 pub mod mac;
 pub mod multigrid;
 pub mod poisson;
+pub mod weno5;
 
 pub use porous::Porous;
 
