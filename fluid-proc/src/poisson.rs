@@ -60,13 +60,13 @@ impl Poisson {
         if singular {
             remove_mean(&mut self.r);
         }
-        let norm_b = {
-            let mut bb = b.to_vec();
-            if singular {
-                remove_mean(&mut bb);
-            }
-            dot(&bb, &bb).sqrt()
+        // ‖b‖, of its mean-free part when A is singular: Σb² − N·mean².
+        let mean = if singular {
+            b.iter().sum::<f64>() / b.len() as f64
+        } else {
+            0.0
         };
+        let norm_b = (dot(b, b) - b.len() as f64 * mean * mean).max(0.0).sqrt();
         let mut res = dot(&self.r, &self.r).sqrt();
         // Relative to the larger of b and the first residual: a guess far
         // from a tiny b (a field already nearly solenoidal) still stops.

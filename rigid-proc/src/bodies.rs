@@ -2,7 +2,7 @@
 //! structure's impulses at their attachment points, rigid–rigid contacts,
 //! then every body advanced under gravity and the fluid's loads.
 
-use crate::body::{Body, STATE_LEN};
+use crate::body::{Body, MOMENTUM_LEN, STATE_LEN};
 use crate::contact;
 use crate::motion::{advance, Load};
 use coupler::scenario::rigid::{pair_restitution, RigidSection};
@@ -82,10 +82,15 @@ impl Bodies {
         }
     }
 
-    /// The momentum the structure's collisions gave each body, 6 per body:
-    /// linear then angular impulse about the centre (world axes).
+    /// The momentum the structure's collisions gave each body,
+    /// [`MOMENTUM_LEN`] per body: linear then angular impulse about the
+    /// centre (world axes).
     pub fn apply_momenta(&mut self, momenta: &[f64]) {
-        for (body, m) in self.bodies.iter_mut().zip(momenta.chunks_exact(6)) {
+        for (body, m) in self
+            .bodies
+            .iter_mut()
+            .zip(momenta.chunks_exact(MOMENTUM_LEN))
+        {
             body.apply_momentum(
                 &Vector3::new(m[0], m[1], m[2]),
                 &Vector3::new(m[3], m[4], m[5]),

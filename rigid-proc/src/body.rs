@@ -10,6 +10,9 @@ use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vect
 
 /// Values per body in the exchanged state (see [`Body::write_state`]).
 pub const STATE_LEN: usize = 13;
+/// Values per body in an exchanged momentum change: linear, then angular
+/// impulse about the centre (see [`Body::apply_momentum`]).
+pub const MOMENTUM_LEN: usize = 6;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct State {

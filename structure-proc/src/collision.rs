@@ -23,10 +23,7 @@ use coupler::scenario::RigidSection;
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query::{PointProjection, Ray};
 use parry3d_f64::shape::SharedShape;
-use rigid_proc::body::{Body, STATE_LEN};
-
-/// Values per body in the momentum sent back: linear, then angular impulse.
-pub const MOMENTUM_LEN: usize = 6;
+use rigid_proc::body::{Body, MOMENTUM_LEN, STATE_LEN};
 
 /// The bodies the structure's free nodes collide with.
 pub struct Obstacles {
