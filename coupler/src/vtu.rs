@@ -1,6 +1,7 @@
-//! ParaView-readable output: unstructured-grid `.vtu` files (ASCII, every f64
-//! written in its shortest exact form, so a file reads back bit-identical) and
-//! a `.pvd` collection that strings them into a time series.
+//! ParaView-readable output: unstructured-grid `.vtu` files and image-data
+//! `.vti` files for fields on a box of cells (ASCII, every f64 written in its
+//! shortest exact form, so a file reads back bit-identical), and a `.pvd`
+//! collection that strings them into a time series.
 //!
 //! Every file is written to a temporary name and renamed, so a run that stops
 //! at any moment leaves only complete files behind.
@@ -97,6 +98,63 @@ pub fn write_vtu(path: &Path, piece: &Piece) -> io::Result<()> {
     write_atomic(path, &s)
 }
 
+/// Fields on a uniform box of cells: `cells` along x, y, z from `origin`,
+/// `spacing` apart, each field one value or one 3-vector per cell (x fastest).
+pub struct Image<'a> {
+    pub origin: [f64; 3],
+    pub spacing: [f64; 3],
+    pub cells: [usize; 3],
+    pub cell_data: Vec<(&'a str, usize, &'a [f64])>,
+}
+
+/// Write one `.vti` file.
+pub fn write_vti(path: &Path, image: &Image) -> io::Result<()> {
+    let [nx, ny, nz] = image.cells;
+    let extent = format!("0 {nx} 0 {ny} 0 {nz}");
+    let mut s = String::new();
+    s.push_str("<?xml version=\"1.0\"?>\n");
+    s.push_str("<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
+    let [o, h] = [image.origin, image.spacing].map(|v| join(&v));
+    let _ = writeln!(
+        s,
+        "<ImageData WholeExtent=\"{extent}\" Origin=\"{o}\" Spacing=\"{h}\">\n<Piece Extent=\"{extent}\">\n<CellData>"
+    );
+    for (name, comps, data) in &image.cell_data {
+        let _ = writeln!(
+            s,
+            "<DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{comps}\" format=\"ascii\">{}</DataArray>",
+            join(data)
+        );
+    }
+    s.push_str("</CellData>\n</Piece>\n</ImageData>\n</VTKFile>\n");
+    write_atomic(path, &s)
+}
+
+/// Read the cell field `name` of a `.vti` written by [`write_vti`] (for
+/// tests and tools).
+pub fn read_cell_data(path: &Path, name: &str) -> io::Result<Vec<f64>> {
+    let text = std::fs::read_to_string(path)?;
+    let tag = format!("Name=\"{name}\"");
+    let bad = |m: &str| {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("{}: {m}", path.display()),
+        )
+    };
+    let start = text
+        .find(&tag)
+        .ok_or_else(|| bad(&format!("no field {name}")))?;
+    let open = start + text[start..].find('>').ok_or_else(|| bad("unclosed tag"))? + 1;
+    let close = open
+        + text[open..]
+            .find('<')
+            .ok_or_else(|| bad("unclosed array"))?;
+    text[open..close]
+        .split_whitespace()
+        .map(|v| v.parse().map_err(|_| bad(&format!("bad number {v:?}"))))
+        .collect()
+}
+
 /// A `.pvd` time series in the run directory, with its `.vtu` files under `vtk/`.
 pub struct Series {
     dir: PathBuf,
@@ -115,10 +173,25 @@ impl Series {
 
     /// Write output number `index` at simulated `time` and update the `.pvd`.
     pub fn write(&mut self, index: u64, time: f64, piece: &Piece) -> io::Result<PathBuf> {
+        self.add(index, time, "vtu", |path| write_vtu(path, piece))
+    }
+
+    /// The same for fields on a box of cells (a `.vti` file).
+    pub fn write_image(&mut self, index: u64, time: f64, image: &Image) -> io::Result<PathBuf> {
+        self.add(index, time, "vti", |path| write_vti(path, image))
+    }
+
+    fn add(
+        &mut self,
+        index: u64,
+        time: f64,
+        extension: &str,
+        write: impl FnOnce(&Path) -> io::Result<()>,
+    ) -> io::Result<PathBuf> {
         std::fs::create_dir_all(self.dir.join("vtk"))?;
-        let rel = format!("vtk/{}_{index:06}.vtu", self.name);
+        let rel = format!("vtk/{}_{index:06}.{extension}", self.name);
         let path = self.dir.join(&rel);
-        write_vtu(&path, piece)?;
+        write(&path)?;
         self.entries.push((time, rel));
         let mut s = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n<Collection>\n");
         for (t, f) in &self.entries {

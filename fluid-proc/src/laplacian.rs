@@ -4,64 +4,172 @@
 //! side φ = 0 on the face doubling it (the ghost is −φ_c). A is symmetric and
 //! positive semi-definite; its null space is the constants when no side is
 //! Dirichlet.
+//!
+//! The stencil works line by line along x: each line knows where the lines
+//! beside it start (or that a side is there), so the inner loop over a line
+//! holds no index arithmetic beyond ±1 and the line offsets.
 
 use crate::grid::{Bc, Grid, Neighbour};
+use rayon::prelude::*;
 
-/// What cell `c`'s equation holds along one axis direction: the neighbour's
-/// coefficient and index, or only a term on the diagonal.
+/// Lines shorter than this many cells per task are not worth a thread.
+const CELLS_PER_TASK: usize = 4096;
+
+/// One line of cells along x: its first cell, and the first cells of the
+/// lines below and above it along y and z (None at a side that is not
+/// periodic, or on an axis one cell thick, where the neighbour is the cell
+/// itself and cancels).
 #[derive(Debug, Clone, Copy)]
-pub enum Term {
-    Off(usize, f64),
-    Diagonal(f64),
-    None,
+pub struct Line {
+    pub start: usize,
+    pub beside: [Option<usize>; 4],
 }
 
-pub fn term(g: &Grid, c: [usize; 3], d: usize, up: bool) -> Term {
+/// A = −∇²ₕ on one grid, ready to apply and to smooth with.
+#[derive(Debug, Clone)]
+pub struct Stencil {
+    pub grid: Grid,
+    /// 1/h² per axis [1/m²].
+    w: [f64; 3],
+    /// A's diagonal per cell.
+    pub diag: Vec<f64>,
+    lines: Vec<Line>,
+    /// x wraps (periodic and more than one cell).
+    x_wraps: bool,
+}
+
+impl Stencil {
+    pub fn new(g: &Grid) -> Stencil {
+        let [nx, ny, nz] = g.n;
+        let beside = |c: usize, n: usize, d: usize, stride: usize, up: bool| {
+            if n == 1 {
+                return None;
+            }
+            let at_side = if up { c + 1 == n } else { c == 0 };
+            match (at_side, up) {
+                (false, false) => Some(-(stride as isize)),
+                (false, true) => Some(stride as isize),
+                (true, _) if g.bc[d][up as usize] != Bc::Periodic => None,
+                (true, false) => Some(((n - 1) * stride) as isize),
+                (true, true) => Some(-(((n - 1) * stride) as isize)),
+            }
+        };
+        let mut lines = Vec::with_capacity(ny * nz);
+        for k in 0..nz {
+            for j in 0..ny {
+                let start = g.index([0, j, k]);
+                let off = [
+                    beside(j, ny, 1, nx, false),
+                    beside(j, ny, 1, nx, true),
+                    beside(k, nz, 2, nx * ny, false),
+                    beside(k, nz, 2, nx * ny, true),
+                ];
+                lines.push(Line {
+                    start,
+                    beside: off.map(|o| o.map(|o| (start as isize + o) as usize)),
+                });
+            }
+        }
+        let diag = (0..g.cells())
+            .map(|i| {
+                let c = g.coords(i);
+                (0..6).map(|t| diagonal_term(g, c, t / 2, t % 2 == 1)).sum()
+            })
+            .collect();
+        Stencil {
+            grid: g.clone(),
+            w: g.h.map(|h| 1.0 / (h * h)),
+            diag,
+            lines,
+            x_wraps: nx > 1 && g.bc[0][0] == Bc::Periodic,
+        }
+    }
+
+    /// The lines beside `line` that exist, with their weights.
+    #[inline(always)]
+    fn rows(&self, line: &Line) -> ([(usize, f64); 4], usize) {
+        let mut rows = [(0, 0.0); 4];
+        let mut count = 0;
+        for (t, b) in line.beside.iter().enumerate() {
+            if let Some(b) = b {
+                rows[count] = (*b, self.w[1 + t / 2]);
+                count += 1;
+            }
+        }
+        (rows, count)
+    }
+
+    /// Σ of the neighbours' weighted values of cell `i` on a line starting
+    /// at `start` with the lines `rows` beside it: the off-diagonal part of
+    /// A with its sign flipped.
+    #[inline(always)]
+    fn beside_sum(&self, x: &[f64], start: usize, rows: &[(usize, f64)], i: usize) -> f64 {
+        let nx = self.grid.n[0];
+        let c = start + i;
+        let mut sx = 0.0;
+        if i > 0 {
+            sx += x[c - 1];
+        } else if self.x_wraps {
+            sx += x[c + nx - 1];
+        }
+        if i + 1 < nx {
+            sx += x[c + 1];
+        } else if self.x_wraps {
+            sx += x[start];
+        }
+        let mut s = self.w[0] * sx;
+        for &(b, w) in rows {
+            s += w * x[b + i];
+        }
+        s
+    }
+
+    /// out = A x.
+    pub fn apply(&self, x: &[f64], out: &mut [f64]) {
+        let nx = self.grid.n[0];
+        let per_task = (CELLS_PER_TASK / nx).max(1);
+        out.par_chunks_mut(nx)
+            .zip(self.lines.par_iter())
+            .with_min_len(per_task)
+            .for_each(|(o, line)| {
+                let (rows, count) = self.rows(line);
+                let rows = &rows[..count];
+                for (i, o) in o.iter_mut().enumerate() {
+                    let c = line.start + i;
+                    *o = self.diag[c] * x[c] - self.beside_sum(x, line.start, rows, i);
+                }
+            });
+    }
+
+    /// One Gauss–Seidel pass over the cells of one colour ((i + j + k) mod 2)
+    /// for A x = b. A cell with a zero diagonal (a lone cell with no sides to
+    /// speak of) is left alone.
+    pub fn gauss_seidel(&self, b: &[f64], x: &mut [f64], colour: usize) {
+        let nx = self.grid.n[0];
+        let ny = self.grid.n[1];
+        for (l, line) in self.lines.iter().enumerate() {
+            let (rows, count) = self.rows(line);
+            let rows = &rows[..count];
+            let (j, k) = (l % ny, l / ny);
+            let first = (colour + j + k) % 2;
+            for i in (first..nx).step_by(2) {
+                let c = line.start + i;
+                let d = self.diag[c];
+                if d != 0.0 {
+                    x[c] = (b[c] + self.beside_sum(x, line.start, rows, i)) / d;
+                }
+            }
+        }
+    }
+}
+
+/// What the face of cell `c` along d (below or above) puts on the diagonal.
+fn diagonal_term(g: &Grid, c: [usize; 3], d: usize, up: bool) -> f64 {
     let w = 1.0 / (g.h[d] * g.h[d]);
     match g.neighbour(c, d, up) {
-        Neighbour::Cell(m) if m == g.index(c) => Term::None,
-        Neighbour::Cell(m) => Term::Off(m, w),
-        Neighbour::Side(Bc::Dirichlet) => Term::Diagonal(2.0 * w),
-        Neighbour::Side(_) => Term::None,
-    }
-}
-
-/// The six terms of cell `c`'s row.
-pub fn row(g: &Grid, c: [usize; 3]) -> [Term; 6] {
-    let mut t = [Term::None; 6];
-    for d in 0..3 {
-        t[2 * d] = term(g, c, d, false);
-        t[2 * d + 1] = term(g, c, d, true);
-    }
-    t
-}
-
-/// The diagonal of A in each cell.
-pub fn diagonal(g: &Grid) -> Vec<f64> {
-    (0..g.cells())
-        .map(|i| {
-            row(g, g.coords(i))
-                .iter()
-                .map(|t| match t {
-                    Term::Off(_, w) | Term::Diagonal(w) => *w,
-                    Term::None => 0.0,
-                })
-                .sum()
-        })
-        .collect()
-}
-
-/// out = A x.
-pub fn apply(g: &Grid, x: &[f64], out: &mut [f64]) {
-    for (i, o) in out.iter_mut().enumerate() {
-        let mut s = 0.0;
-        for t in row(g, g.coords(i)) {
-            s += match t {
-                Term::Off(m, w) => w * (x[i] - x[m]),
-                Term::Diagonal(w) => w * x[i],
-                Term::None => 0.0,
-            };
-        }
-        *o = s;
+        Neighbour::Cell(m) if m == g.index(c) => 0.0,
+        Neighbour::Cell(_) => w,
+        Neighbour::Side(Bc::Dirichlet) => 2.0 * w,
+        Neighbour::Side(_) => 0.0,
     }
 }

@@ -3,19 +3,30 @@
 //! - The porous free-stream model of seed 003 §2.1, whose law lives in the
 //!   `porous` crate (structure solvers apply the same law with
 //!   `[structure.porous]`); it is what the scenes run today.
-//! - The incompressible solver of seed 000 §3.2.2, being built (issue 6):
-//!   the uniform box of cells and its sides (`grid.rs`), the pressure
-//!   operator (`laplacian.rs`), its multigrid-preconditioned conjugate
-//!   gradient solve (`multigrid.rs`, `poisson.rs`), the projection on the
-//!   staggered grid (`mac.rs`) and the WENO5 reconstruction (`weno5.rs`).
+//! - The incompressible Navier–Stokes solver of seed 000 §3.2.2
+//!   (`incompressible.rs`, the step of eqs. 3.18–3.20), built from:
+//!   - the box of cells and its pressure sides (`grid.rs`) and velocity
+//!     sides (`side.rs`), and the scenario's flow (`setup.rs`);
+//!   - face velocities with ghost layers that carry the sides (`padded.rs`);
+//!   - the WENO5 advection term (`weno5.rs`, `advection.rs`) and the
+//!     Crank–Nicolson viscous solve (`viscosity.rs`);
+//!   - the pressure operator (`laplacian.rs`), its multigrid-preconditioned
+//!     conjugate-gradient solve (`multigrid.rs`, `poisson.rs`) and the
+//!     projection on the staggered grid (`mac.rs`).
 //!
 //! The physics never touches IPC.
 
+pub mod advection;
 pub mod grid;
+pub mod incompressible;
 pub mod laplacian;
 pub mod mac;
 pub mod multigrid;
+pub mod padded;
 pub mod poisson;
+pub mod setup;
+pub mod side;
+pub mod viscosity;
 pub mod weno5;
 
 pub use porous::Porous;

@@ -44,13 +44,6 @@ impl Faces {
         f[0] + m[0] * (f[1] + m[1] * f[2])
     }
 
-    /// The face normal to d below (`up = false`) or above cell `c`.
-    pub fn of_cell(&self, d: usize, c: [usize; 3], up: bool) -> usize {
-        let mut f = c;
-        f[d] += up as usize;
-        self.index(d, f)
-    }
-
     /// Largest face speed [m/s].
     pub fn max_abs(&self) -> f64 {
         self.u.iter().flatten().fold(0.0, |m, v| m.max(v.abs()))
@@ -59,11 +52,58 @@ impl Faces {
 
 /// div[c] = Σ_d (u_d above − u_d below)/h_d [1/s].
 pub fn divergence(g: &Grid, u: &Faces, div: &mut [f64]) {
-    for (i, out) in div.iter_mut().enumerate() {
-        let c = g.coords(i);
-        *out = (0..3)
-            .map(|d| (u.u[d][u.of_cell(d, c, true)] - u.u[d][u.of_cell(d, c, false)]) / g.h[d])
-            .sum();
+    let n = g.n;
+    let inv_h = g.h.map(|h| 1.0 / h);
+    // Faces per axis of each component, and the step from a cell's face
+    // below to its face above.
+    let m = [0, 1, 2].map(|d| face_counts(n, d));
+    let up = [0, 1, 2].map(|d| [1, m[d][0], m[d][0] * m[d][1]][d]);
+    let mut c = 0;
+    for k in 0..n[2] {
+        for j in 0..n[1] {
+            let below = [0, 1, 2].map(|d| m[d][0] * (j + m[d][1] * k));
+            for i in 0..n[0] {
+                let mut s = 0.0;
+                for d in 0..3 {
+                    let f = below[d] + i;
+                    s += (u.u[d][f + up[d]] - u.u[d][f]) * inv_h[d];
+                }
+                div[c] = s;
+                c += 1;
+            }
+        }
+    }
+}
+
+/// Faces along each axis of the faces normal to d: n + 1 along d.
+fn face_counts(n: [usize; 3], d: usize) -> [usize; 3] {
+    let mut m = n;
+    m[d] += 1;
+    m
+}
+
+/// Calls `f(face index, ∂φ/∂x_d)` for every face normal to d, in index
+/// order (`gradient` on the sides, a plain difference inside).
+pub fn for_each_gradient(g: &Grid, phi: &[f64], d: usize, mut f: impl FnMut(usize, f64)) {
+    let n = g.n;
+    let m = face_counts(n, d);
+    let stride = [1, n[0], n[0] * n[1]][d];
+    let inv_h = 1.0 / g.h[d];
+    let mut face = 0;
+    for k in 0..m[2] {
+        for j in 0..m[1] {
+            for i in 0..m[0] {
+                let c = [i, j, k];
+                let grad = if c[d] > 0 && c[d] < n[d] {
+                    let cell = i + n[0] * (j + n[1] * k);
+                    (phi[cell] - phi[cell - stride]) * inv_h
+                } else {
+                    gradient(g, phi, d, c)
+                };
+                f(face, grad);
+                face += 1;
+            }
+        }
     }
 }
 
@@ -81,41 +121,35 @@ pub fn project(
     divergence(g, u, scratch);
     scratch.iter_mut().for_each(|v| *v *= -1.0 / dt);
     let iterations = poisson.solve(scratch, phi)?;
-    for d in 0..3 {
-        let n = g.n[d];
-        let h = g.h[d];
-        let periodic = g.bc[d][0] == Bc::Periodic;
-        for f in 0..u.u[d].len() {
-            let face = face_coords(u, d, f);
-            let k = face[d];
-            let cell = |along: usize| {
-                let mut c = face;
-                c[d] = along;
-                phi[g.index(c)]
-            };
-            let grad = if k > 0 && k < n {
-                (cell(k) - cell(k - 1)) / h
-            } else if periodic {
-                (cell(0) - cell(n - 1)) / h
-            } else {
-                let side = g.bc[d][(k == n) as usize];
-                match (side, k == n) {
-                    (Bc::Dirichlet, false) => 2.0 * cell(0) / h,
-                    (Bc::Dirichlet, true) => -2.0 * cell(n - 1) / h,
-                    _ => 0.0,
-                }
-            };
-            u.u[d][f] -= dt * grad;
+    for (d, u) in u.u.iter_mut().enumerate() {
+        // Nothing varies along a periodic axis one cell thick.
+        if g.n[d] > 1 || g.bc[d][0] != Bc::Periodic {
+            for_each_gradient(g, phi, d, |f, grad| u[f] -= dt * grad);
         }
     }
     Ok(iterations)
 }
 
-/// The (face along d, cell rows elsewhere) coordinates of face `f` normal to d.
-fn face_coords(u: &Faces, d: usize, mut f: usize) -> [usize; 3] {
-    let mut m = u.n;
-    m[d] += 1;
-    let x = f % m[0];
-    f /= m[0];
-    [x, f % m[1], f / m[1]]
+/// ∂φ/∂x_d on face `face` normal to d (face along d, cell rows elsewhere):
+/// the difference of the two cells beside it; across a periodic side the
+/// cells at both ends; on a Dirichlet side φ = 0 on the face, half a cell
+/// from the cell; on a Neumann side zero, so the given velocity stays.
+pub fn gradient(g: &Grid, phi: &[f64], d: usize, face: [usize; 3]) -> f64 {
+    let n = g.n[d];
+    let h = g.h[d];
+    let k = face[d];
+    let cell = |along: usize| {
+        let mut c = face;
+        c[d] = along;
+        phi[g.index(c)]
+    };
+    if k > 0 && k < n {
+        return (cell(k) - cell(k - 1)) / h;
+    }
+    match g.bc[d][(k == n) as usize] {
+        Bc::Periodic => (cell(0) - cell(n - 1)) / h,
+        Bc::Dirichlet if k == 0 => 2.0 * cell(0) / h,
+        Bc::Dirichlet => -2.0 * cell(n - 1) / h,
+        Bc::Neumann => 0.0,
+    }
 }

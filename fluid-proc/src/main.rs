@@ -1,6 +1,11 @@
 //! fluid-proc: connects the flow models to the coupler.
 
+use coupler::scenario::fluid::FluidModel;
+use coupler::scenario::FluidSection;
+use coupler::vtu::{Image, Series};
 use coupler::{Command, Field, Monitor, Participant, Role};
+use fluid_proc::incompressible::{Incompressible, StepReport};
+use fluid_proc::setup::flow_from;
 use fluid_proc::{triangles_from_field, Porous};
 
 type Error = Box<dyn std::error::Error>;
@@ -19,7 +24,20 @@ fn run() -> Result<(), Error> {
         .fluid
         .clone()
         .ok_or("the scenario has no [fluid] section")?;
-    let model = Porous::new(&section.porous_load());
+    let steps = match section.model {
+        FluidModel::PorousFreeStream => run_porous(&mut p, &section)?,
+        FluidModel::Incompressible => run_incompressible(&mut p, &section)?,
+    };
+    p.finish(steps)?;
+    Ok(())
+}
+
+/// The porous free-stream model: a pressure jump per canopy triangle.
+fn run_porous(p: &mut Participant, section: &FluidSection) -> Result<u64, Error> {
+    let load = section
+        .porous_load()
+        .ok_or("[fluid] lacks a key of the porous free-stream model")?;
+    let model = Porous::new(&load);
     let bodies = p.scenario().rigid.as_ref().map_or(0, |r| r.bodies.len());
     let mut triangles: Option<Vec<[usize; 3]>> = None;
     let mut windows = 0u64;
@@ -70,6 +88,80 @@ fn run() -> Result<(), Error> {
             Command::Setup(_) => return Err("unexpected second setup".into()),
         }
     }
-    p.finish(windows)?;
-    Ok(())
+    Ok(windows)
+}
+
+/// The incompressible Navier–Stokes model on its box of cells: one flow
+/// step per window (sub-steps when the coupler asks for them), the flow
+/// field written as `fluid.pvd`.
+fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64, Error> {
+    let mut flow = flow_from(section).ok_or("[fluid] has no box")?;
+    let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
+    let mut series = Series::new(p.run_dir(), "fluid");
+    let mut steps = 0u64;
+    loop {
+        match p.next_command()? {
+            Command::Initialize => {
+                let m = flow_monitors(&mut flow, StepReport::default(), f64::NAN);
+                p.done(m)?
+            }
+            Command::Output { index, time } => {
+                let velocity = flow.cell_velocity();
+                let pressure = flow.pressure();
+                let g = flow.grid();
+                series.write_image(
+                    index,
+                    time,
+                    &Image {
+                        origin,
+                        spacing: g.h,
+                        cells: g.n,
+                        cell_data: vec![("velocity", 3, &velocity), ("pressure", 1, &pressure)],
+                    },
+                )?;
+                p.done(Vec::new())?
+            }
+            Command::Advance(a) => {
+                let before = flow.u.clone();
+                let n = a.substeps.max(1);
+                let dt = a.dt / n as f64;
+                let mut report = StepReport::default();
+                for _ in 0..n {
+                    match flow.step(dt) {
+                        Ok(r) => report = r,
+                        Err(e) => {
+                            let msg = format!("flow step at t = {} s: {e}", flow.time);
+                            p.fail(msg.clone())?;
+                            return Err(msg.into());
+                        }
+                    }
+                    steps += 1;
+                }
+                // How far from steady: max|∂u/∂t| over the window [m/s²].
+                let change = flow
+                    .u
+                    .u
+                    .iter()
+                    .zip(&before.u)
+                    .flat_map(|(a, b)| a.iter().zip(b))
+                    .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()));
+                let m = flow_monitors(&mut flow, report, change / a.dt);
+                p.done(if a.window_end { m } else { Vec::new() })?;
+            }
+            Command::Stop => break,
+            Command::Setup(_) => return Err("unexpected second setup".into()),
+        }
+    }
+    Ok(steps)
+}
+
+fn flow_monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> Vec<Monitor> {
+    vec![
+        Monitor::new("kinetic_energy", flow.kinetic_energy()),
+        Monitor::new("max_divergence", flow.max_divergence()),
+        Monitor::new("steady_residual", steady_residual),
+        Monitor::new("courant", r.courant),
+        Monitor::new("pressure_iterations", r.pressure_iterations as f64),
+        Monitor::new("viscous_iterations", r.viscous_iterations as f64),
+    ]
 }

@@ -10,7 +10,7 @@
 //! the V-cycle symmetric, as conjugate gradients need.
 
 use crate::grid::Grid;
-use crate::laplacian::{self, Term};
+use crate::laplacian::Stencil;
 
 /// Smoothing sweeps before and after the coarse correction.
 const SWEEPS: usize = 2;
@@ -20,8 +20,7 @@ const COARSEST_CELLS: usize = 64;
 const COARSEST_SWEEPS: usize = 40;
 
 struct Level {
-    grid: Grid,
-    diag: Vec<f64>,
+    stencil: Stencil,
     /// Right-hand side, solution and residual of this level's correction.
     b: Vec<f64>,
     x: Vec<f64>,
@@ -66,8 +65,7 @@ impl Multigrid {
                     None => (Vec::new(), 1.0),
                 };
                 Level {
-                    grid: g.clone(),
-                    diag: laplacian::diagonal(g),
+                    stencil: Stencil::new(g),
                     b: vec![0.0; cells],
                     x: vec![0.0; cells],
                     r: vec![0.0; cells],
@@ -80,6 +78,11 @@ impl Multigrid {
             levels,
             singular: !fine.has_dirichlet(),
         }
+    }
+
+    /// The finest level's operator.
+    pub fn stencil(&self) -> &Stencil {
+        &self.levels[0].stencil
     }
 
     /// Number of levels, the finest included.
@@ -117,7 +120,7 @@ impl Multigrid {
             sweep(level, 0);
             sweep(level, 1);
         }
-        laplacian::apply(&level.grid, &level.x, &mut level.r);
+        level.stencil.apply(&level.x, &mut level.r);
         for (r, b) in level.r.iter_mut().zip(&level.b) {
             *r = b - *r;
         }
@@ -140,22 +143,8 @@ impl Multigrid {
     }
 }
 
-/// One Gauss–Seidel pass over the cells of one colour ((i + j + k) mod 2).
 fn sweep(level: &mut Level, colour: usize) {
-    let g = &level.grid;
-    for i in 0..g.cells() {
-        let c = g.coords(i);
-        if (c[0] + c[1] + c[2]) % 2 != colour || level.diag[i] == 0.0 {
-            continue;
-        }
-        let mut s = level.b[i];
-        for t in laplacian::row(g, c) {
-            if let Term::Off(m, w) = t {
-                s += w * level.x[m];
-            }
-        }
-        level.x[i] = s / level.diag[i];
-    }
+    level.stencil.gauss_seidel(&level.b, &mut level.x, colour);
 }
 
 pub fn remove_mean(x: &mut [f64]) {

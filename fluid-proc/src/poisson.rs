@@ -4,7 +4,6 @@
 //! works mean-free and returns the mean-free φ.
 
 use crate::grid::Grid;
-use crate::laplacian;
 use crate::multigrid::{remove_mean, Multigrid};
 
 #[derive(Debug, thiserror::Error)]
@@ -46,6 +45,11 @@ impl Poisson {
         }
     }
 
+    /// out = A x.
+    pub fn apply(&self, x: &[f64], out: &mut [f64]) {
+        self.mg.stencil().apply(x, out);
+    }
+
     pub fn levels(&self) -> usize {
         self.mg.depth()
     }
@@ -53,7 +57,7 @@ impl Poisson {
     /// Solve A φ = b from the guess in `phi`; returns the iterations taken.
     pub fn solve(&mut self, b: &[f64], phi: &mut [f64]) -> Result<usize, SolveError> {
         let singular = !self.grid.has_dirichlet();
-        laplacian::apply(&self.grid, phi, &mut self.r);
+        self.mg.stencil().apply(phi, &mut self.r);
         for (r, bi) in self.r.iter_mut().zip(b) {
             *r = bi - *r;
         }
@@ -79,7 +83,7 @@ impl Poisson {
         self.p.copy_from_slice(&self.z);
         let mut rz = dot(&self.r, &self.z);
         for it in 1..=self.max_iterations {
-            laplacian::apply(&self.grid, &self.p, &mut self.q);
+            self.mg.stencil().apply(&self.p, &mut self.q);
             let alpha = rz / dot(&self.p, &self.q);
             if !alpha.is_finite() {
                 return Err(SolveError::NonFinite);

@@ -37,8 +37,8 @@ impl Watch {
         let fastest = (0..m.nodes()).map(|n| speed(&m.v, n)).fold(0.0, f64::max);
         w.raise(fastest, "the fastest node at the start");
         let stream = |u: [f64; 3]| u.iter().map(|c| c * c).sum::<f64>().sqrt();
-        if let Some(f) = &scenario.fluid {
-            w.raise(stream(f.free_stream), "the free stream");
+        if let Some(u) = scenario.fluid.as_ref().and_then(|f| f.free_stream) {
+            w.raise(stream(u), "the free stream");
         }
         if let Some(p) = &m.porous {
             w.raise(stream(p.free_stream), "the free stream");

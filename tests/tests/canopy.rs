@@ -55,7 +55,13 @@ fn transport_changes_no_number() {
     )
     .unwrap();
     let mut integrator = integrator(section.scheme());
-    let porous = Porous::new(&s.fluid.as_ref().unwrap().porous_load());
+    let porous = Porous::new(
+        &s.fluid
+            .as_ref()
+            .unwrap()
+            .porous_load()
+            .expect("porous keys"),
+    );
     let n = model.canopy_nodes;
     let mut pressure = vec![0.0; model.triangles.len()];
     for w in 0..s.windows() {

@@ -15,10 +15,19 @@ struct Case {
     line_of: Option<&'static str>,
 }
 
+/// The shipped cavity scenario with `from` replaced by `to` (flow cases).
+fn cavity_with(from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(scenario_path("cavity")).unwrap();
+    if from.is_empty() {
+        return text;
+    }
+    replace(&text, from, to)
+}
+
 fn replace(text: &str, from: &str, to: &str) -> String {
     assert!(
         text.contains(from),
-        "the pendulum scenario no longer contains {from:?}"
+        "the scenario no longer contains {from:?}"
     );
     text.replacen(from, to, 1)
 }
@@ -419,6 +428,60 @@ const CASES: &[Case] = &[
         line_of: Some("[structure.porous]"),
     },
     Case {
+        name: "flow-unpaired-periodic",
+        edit: |_| cavity_with("y_high =", "x_low = \"periodic\"\ny_high ="),
+        key: Some("fluid.sides.x_low"),
+        says: "periodic sides come in pairs",
+        line_of: Some("x_low = \"periodic\""),
+    },
+    Case {
+        name: "flow-porous-key",
+        edit: |_| cavity_with("viscosity = 0.01", "porosity = 0.5\nviscosity = 0.01"),
+        key: Some("fluid.porosity"),
+        says: "porosity is not a key of model = \"incompressible\"",
+        line_of: Some("porosity = 0.5"),
+    },
+    Case {
+        name: "flow-needs-box",
+        edit: |_| cavity_with("[fluid.box]", "[fluid.bx]"),
+        key: Some("fluid.bx"),
+        says: "unknown field `bx`",
+        line_of: Some("[fluid.bx]"),
+    },
+    Case {
+        name: "flow-without-box",
+        edit: |_| {
+            let t = cavity_with("", "");
+            let start = t.find("[fluid.box]").unwrap();
+            let end = t.find("[fluid.sides]").unwrap();
+            format!("{}{}", &t[..start], &t[end..])
+        },
+        key: Some("fluid.model"),
+        says: "needs the key `box`",
+        line_of: Some("model = \"incompressible\""),
+    },
+    Case {
+        name: "flow-courant",
+        edit: |_| cavity_with("window = 3.90625e-3", "window = 0.05"),
+        key: Some("coupling.window"),
+        says: "(the Courant number)",
+        line_of: Some("window = 0.05"),
+    },
+    Case {
+        name: "flow-inflow-without-outflow",
+        edit: |_| cavity_with("y_high =", "y_low = { inflow = [0.0, 1.0, 0.0] }\ny_high ="),
+        key: Some("fluid.sides"),
+        says: "none is an outflow",
+        line_of: Some("[fluid.sides]"),
+    },
+    Case {
+        name: "flow-one-cell-wall",
+        edit: |_| cavity_with("y_high =", "z_low = \"wall\"\nz_high = \"wall\"\ny_high ="),
+        key: Some("fluid.sides.z_low"),
+        says: "one cell thick along z",
+        line_of: Some("z_low = \"wall\""),
+    },
+    Case {
         name: "missing-mesh",
         edit: |t| {
             replace(
@@ -548,6 +611,7 @@ fn the_shipped_scenarios_pass_check() {
         "point-ball",
         "cloth-drop",
         "ball-cloth",
+        "cavity",
     ] {
         let out = coupler(&["check", scenario_path(name).to_str().unwrap()]);
         assert!(

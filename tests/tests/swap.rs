@@ -46,7 +46,7 @@ fn the_porous_load_applied_by_the_structure_matches_fluid_procs() {
     let alone = variant("canopy-porous", &dir, |s| {
         s.participants.fluid = None;
         let fluid = s.fluid.take().expect("canopy-porous has a [fluid] section");
-        s.structure.as_mut().unwrap().porous = Some(fluid.porous_load());
+        s.structure.as_mut().unwrap().porous = Some(fluid.porous_load().expect("porous keys"));
     });
     let (reference, _) = final_deflection(&scenario_path("canopy-porous"), &dir.join("fluid"));
     let (d, ke) = final_deflection(&alone, &dir.join("alone"));

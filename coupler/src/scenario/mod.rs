@@ -4,6 +4,7 @@
 mod check;
 pub mod collision;
 mod error;
+pub mod flow;
 pub mod fluid;
 pub mod integrator;
 pub mod mesh;
@@ -292,6 +293,29 @@ impl Scenario {
         }
         if let Some(s) = &self.fluid {
             s.check(c);
+            let partners =
+                self.participants.structure.is_some() || self.participants.rigid.is_some();
+            if s.model == fluid::FluidModel::Incompressible && partners {
+                c.problem(
+                    &["fluid", "model"],
+                    "model = \"incompressible\" runs the flow alone for now: a canopy or bodies \
+                     in the flow are not coupled to it yet, so use model = \"porous-free-stream\" \
+                     for a scene with a structure or rigid bodies"
+                        .into(),
+                );
+            }
+            let courant = s.start_courant(k.window).unwrap_or(0.0);
+            if courant > flow::MAX_COURANT {
+                c.problem(
+                    &["coupling", "window"],
+                    format!(
+                        "window = {} s is one flow step, and at the sides' speed it crosses {courant:.3} cells \
+                         (the Courant number): more than {} is unstable, so shorten it",
+                        k.window,
+                        flow::MAX_COURANT
+                    ),
+                );
+            }
         }
         let porous_in_structure = self.structure.as_ref().is_some_and(|s| s.porous.is_some());
         if porous_in_structure && self.participants.fluid.is_some() {

@@ -1,0 +1,200 @@
+//! The keys of the incompressible flow model (`[fluid] model =
+//! "incompressible"`, seed 000 §3.2.2): the box of cells `[fluid.box]` and
+//! what each of its sides does to the flow, `[fluid.sides]`.
+
+use super::check::Checker;
+use serde::{Deserialize, Serialize};
+
+/// Most cells a flow box may have (guards memory against typos: 10⁸ cells
+/// take about 10 GB).
+pub const MAX_CELLS: f64 = 1e8;
+
+/// Largest Courant number max|u|·Δt/h a flow step takes: beyond it the
+/// explicit advection of seed 000 eq. (3.18) is unstable (the CFL limit of
+/// an explicit upwind scheme).
+pub const MAX_COURANT: f64 = 1.0;
+
+/// `[fluid.box]`: a uniform grid of cells over an axis-aligned box.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlowBox {
+    /// Lowest corner [m].
+    pub lower: [f64; 3],
+    /// Highest corner [m].
+    pub upper: [f64; 3],
+    /// Cells along x, y, z; one cell along z makes a 2-D flow.
+    pub cells: [u32; 3],
+}
+
+impl FlowBox {
+    /// Cell size per axis [m].
+    pub fn spacing(&self) -> [f64; 3] {
+        [0, 1, 2].map(|d| (self.upper[d] - self.lower[d]) / self.cells[d] as f64)
+    }
+
+    pub fn check(&self, c: &mut Checker) {
+        c.within("box", None, |c| {
+            c.finite3(&["lower"], self.lower);
+            c.finite3(&["upper"], self.upper);
+            if (0..3).any(|d| self.upper[d] <= self.lower[d]) {
+                c.problem(
+                    &["upper"],
+                    format!(
+                        "upper = {:?} must lie above lower = {:?} along every axis",
+                        self.upper, self.lower
+                    ),
+                );
+            }
+            if self.cells.contains(&0) {
+                c.problem(
+                    &["cells"],
+                    "cells must be at least 1 along every axis".into(),
+                );
+            }
+            let total: f64 = self.cells.iter().map(|&n| n as f64).product();
+            c.at_most(&["cells"], total, MAX_CELLS);
+        });
+    }
+}
+
+/// What one side does to the flow.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SideSpec {
+    /// A no-slip wall at rest.
+    Wall,
+    /// The velocity on the side [m/s]: a moving wall (a lid) or, with a
+    /// normal component, an inflow (`inflow` is the same).
+    #[serde(alias = "inflow")]
+    Velocity([f64; 3]),
+    /// An outflow at p = 0.
+    Outflow,
+    /// Wraps to the opposite side, which must be periodic too.
+    Periodic,
+}
+
+/// `[fluid.sides]`: one entry per side. A side left out is a wall, or
+/// periodic on an axis one cell thick (the z of a 2-D flow).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlowSides {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_low: Option<SideSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_high: Option<SideSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y_low: Option<SideSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y_high: Option<SideSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z_low: Option<SideSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z_high: Option<SideSpec>,
+}
+
+/// Key names of the sides, `[axis][low, high]`.
+pub const SIDE_KEYS: [[&str; 2]; 3] = [
+    ["x_low", "x_high"],
+    ["y_low", "y_high"],
+    ["z_low", "z_high"],
+];
+
+impl FlowSides {
+    fn given(&self) -> [[Option<SideSpec>; 2]; 3] {
+        [
+            [self.x_low, self.x_high],
+            [self.y_low, self.y_high],
+            [self.z_low, self.z_high],
+        ]
+    }
+
+    /// The largest speed the sides give [m/s].
+    pub fn max_speed(sides: &[[SideSpec; 2]; 3]) -> f64 {
+        sides
+            .iter()
+            .flatten()
+            .map(|s| match s {
+                SideSpec::Velocity(v) => v.iter().map(|x| x * x).sum::<f64>().sqrt(),
+                _ => 0.0,
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// Every side, with the defaults for those left out.
+    pub fn resolved(&self, cells: [u32; 3]) -> [[SideSpec; 2]; 3] {
+        let given = self.given();
+        [0, 1, 2].map(|d| {
+            let default = if cells[d] == 1 {
+                SideSpec::Periodic
+            } else {
+                SideSpec::Wall
+            };
+            given[d].map(|s| s.unwrap_or(default))
+        })
+    }
+
+    pub fn check(&self, c: &mut Checker, flow_box: &FlowBox) {
+        let sides = self.resolved(flow_box.cells);
+        c.within("sides", None, |c| {
+            for d in 0..3 {
+                for s in 0..2 {
+                    if let SideSpec::Velocity(v) = sides[d][s] {
+                        c.finite3(&[SIDE_KEYS[d][s]], v);
+                    }
+                }
+                let periodic = sides[d].map(|s| s == SideSpec::Periodic);
+                if periodic[0] != periodic[1] {
+                    c.problem(
+                        &[SIDE_KEYS[d][periodic[1] as usize]],
+                        format!(
+                            "{} is periodic but {} is not: periodic sides come in pairs",
+                            SIDE_KEYS[d][periodic[1] as usize],
+                            SIDE_KEYS[d][periodic[0] as usize]
+                        ),
+                    );
+                }
+                if flow_box.cells[d] == 1 && !periodic[0] {
+                    c.problem(
+                        &[SIDE_KEYS[d][0]],
+                        format!(
+                            "the box is one cell thick along {}, so its sides there must be periodic (a 2-D flow)",
+                            ["x", "y", "z"][d]
+                        ),
+                    );
+                }
+            }
+            // With no outflow the fluid has nowhere to go: the flux through
+            // the sides must balance, or no divergence-free field obeys them.
+            let outflow = sides.iter().flatten().any(|s| *s == SideSpec::Outflow);
+            if !outflow {
+                let (net, scale) = net_inflow(&sides, flow_box);
+                if net.abs() > 1e-9 * scale.max(f64::MIN_POSITIVE) {
+                    c.problem(
+                        &[],
+                        format!(
+                            "the sides let {net:.6e} m³/s more in than out and none is an outflow: \
+                             make one side `outflow`, or balance the inflows"
+                        ),
+                    );
+                }
+            }
+        });
+    }
+}
+
+/// Net volume flux into the box through its sides [m³/s], and the sum of
+/// the absolute fluxes (its scale).
+fn net_inflow(sides: &[[SideSpec; 2]; 3], b: &FlowBox) -> (f64, f64) {
+    let size = [0, 1, 2].map(|d| b.upper[d] - b.lower[d]);
+    let (mut net, mut scale) = (0.0, 0.0);
+    for d in 0..3 {
+        let area = size[(d + 1) % 3] * size[(d + 2) % 3];
+        for (s, sign) in [(0, 1.0), (1, -1.0)] {
+            if let SideSpec::Velocity(v) = sides[d][s] {
+                net += sign * v[d] * area;
+                scale += (v[d] * area).abs();
+            }
+        }
+    }
+    (net, scale)
+}

@@ -1,0 +1,287 @@
+//! The incompressible Navier–Stokes solver of seed 000 §3.2.2: the
+//! pressure-increment projection method of eqs. (3.18)–(3.20) on the MAC grid
+//! (Brown, Cortez & Minion, J. Comput. Phys. 168, 464–499, 2001, the
+//! method's reference [5] there), second order in time:
+//!
+//! 1. u* from (u* − uⁿ)/Δt + ∇q = −[(u·∇)u]^{n+½} + ν∇²(u* + uⁿ)/2 with
+//!    q = p^{n−½}: the advection term (`advection.rs`, WENO5) extrapolated
+//!    to n + ½ by Adams–Bashforth, the viscous term Crank–Nicolson
+//!    (`viscosity.rs`);
+//! 2. u^{n+1} = u* − Δt∇φ with ∇·u^{n+1} = 0 (`mac.rs`, `poisson.rs`);
+//! 3. p^{n+½} = q + φ − (νΔt/2)∇²φ.
+//!
+//! Pressures here are kinematic (p/ρ, m²/s²); `pressure` gives pascals.
+//! The side velocities are held fixed in time, and u* takes them as its
+//! boundary values.
+
+use crate::advection::advection;
+use crate::grid::Grid;
+use crate::mac::{for_each_gradient, project, Faces};
+use crate::padded::Padded;
+use crate::poisson::{Poisson, SolveError};
+use crate::side::{bcs, Sides};
+use crate::viscosity::{laplacian, Helmholtz, ViscousError};
+use coupler::scenario::flow::MAX_COURANT;
+
+/// Relative residual of the pressure solve.
+pub const PRESSURE_TOLERANCE: f64 = 1e-8;
+/// Relative residual of the viscous solve.
+pub const VISCOUS_TOLERANCE: f64 = 1e-8;
+
+/// Why a flow step failed.
+#[derive(Debug, thiserror::Error)]
+pub enum FlowError {
+    #[error(transparent)]
+    Pressure(#[from] SolveError),
+    #[error(transparent)]
+    Viscous(#[from] ViscousError),
+    #[error("the Courant number max|u|·Δt/h = {0:.3} is above {MAX_COURANT}: the flow step is too long for the explicit advection (shorten the coupling window)")]
+    Courant(f64),
+    #[error("the velocity is no longer finite")]
+    NonFinite,
+}
+
+/// The box, its sides and the fluid.
+#[derive(Debug, Clone)]
+pub struct FlowSetup {
+    pub grid: Grid,
+    pub sides: Sides,
+    /// Density ρ [kg/m³].
+    pub density: f64,
+    /// Kinematic viscosity ν = μ/ρ [m²/s].
+    pub nu: f64,
+}
+
+/// What one step did.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StepReport {
+    pub courant: f64,
+    pub pressure_iterations: usize,
+    pub viscous_iterations: usize,
+}
+
+/// One advected component's work arrays.
+struct Work {
+    /// N = ∇·(u u_c) at n and at n − 1.
+    n: Vec<f64>,
+    n_old: Vec<f64>,
+    b: Vec<f64>,
+    lap: Vec<f64>,
+    flux: Vec<f64>,
+    /// ∇q on the component's faces (unpadded, as in `Faces`).
+    grad_q: Vec<f64>,
+    /// δ = u* − uⁿ, kept as the next step's first guess.
+    delta: Padded,
+    helmholtz: Helmholtz,
+}
+
+pub struct Incompressible {
+    pub setup: FlowSetup,
+    /// Face velocities uⁿ [m/s].
+    pub u: Faces,
+    /// Kinematic pressure p^{n−½}/ρ per cell [m²/s²].
+    pub q: Vec<f64>,
+    /// The last pressure correction φ, the next solve's first guess.
+    phi: Vec<f64>,
+    scratch: Vec<f64>,
+    poisson: Poisson,
+    padded: [Option<Padded>; 3],
+    work: [Option<Work>; 3],
+    /// The previous step's Δt (None before the first step).
+    last_dt: Option<f64>,
+    pub time: f64,
+}
+
+impl Incompressible {
+    /// A fluid at rest with the side velocities on the sides. The sides
+    /// must pair up (periodic with periodic) and an axis one cell thick must
+    /// be periodic, as the scenario check makes sure.
+    pub fn new(setup: FlowSetup) -> Incompressible {
+        let mut grid = setup.grid.clone();
+        grid.bc = bcs(&setup.sides);
+        let mut setup = setup;
+        setup.grid = grid.clone();
+        let active = |c: usize| grid.n[c] > 1;
+        let padded = [0, 1, 2].map(|c| active(c).then(|| Padded::new(&grid, &setup.sides, c)));
+        let work = padded.clone().map(|p| {
+            p.map(|p| {
+                let len = p.data.len();
+                Work {
+                    n: vec![0.0; len],
+                    n_old: vec![0.0; len],
+                    b: vec![0.0; len],
+                    lap: vec![0.0; len],
+                    flux: vec![0.0; len],
+                    grad_q: vec![
+                        0.0;
+                        grid.n.iter().product::<usize>() / grid.n[p.c] * (grid.n[p.c] + 1)
+                    ],
+                    helmholtz: Helmholtz::new(&p),
+                    delta: p,
+                }
+            })
+        });
+        let mut flow = Incompressible {
+            u: Faces::zeros(&grid),
+            q: vec![0.0; grid.cells()],
+            phi: vec![0.0; grid.cells()],
+            scratch: vec![0.0; grid.cells()],
+            poisson: Poisson::new(&grid, PRESSURE_TOLERANCE),
+            padded,
+            work,
+            last_dt: None,
+            time: 0.0,
+            setup,
+        };
+        flow.impose_sides();
+        flow
+    }
+
+    pub fn grid(&self) -> &Grid {
+        &self.setup.grid
+    }
+
+    /// Puts the side velocities on the side faces and makes periodic
+    /// repeats equal (after the caller set `u`).
+    pub fn impose_sides(&mut self) {
+        for p in self.padded.iter_mut().flatten() {
+            p.load(&self.u);
+            p.fill_ghosts(&self.setup.sides);
+            p.store(&mut self.u);
+        }
+    }
+
+    /// Pressure p = ρq per cell at the last half step [Pa].
+    pub fn pressure(&self) -> Vec<f64> {
+        self.q.iter().map(|q| q * self.setup.density).collect()
+    }
+
+    /// Velocity per cell [m/s], 3 per cell: the mean of its two faces along
+    /// each axis.
+    pub fn cell_velocity(&self) -> Vec<f64> {
+        let g = &self.setup.grid;
+        let mut out = vec![0.0; 3 * g.cells()];
+        for d in 0..3 {
+            let m = {
+                let mut m = g.n;
+                m[d] += 1;
+                m
+            };
+            let up = [1, m[0], m[0] * m[1]][d];
+            for i in 0..g.cells() {
+                let [x, y, z] = g.coords(i);
+                let f = x + m[0] * (y + m[1] * z);
+                out[3 * i + d] = 0.5 * (self.u.u[d][f] + self.u.u[d][f + up]);
+            }
+        }
+        out
+    }
+
+    /// Kinetic energy ½ρΣ|u|²V over the cells, from the cell velocities [J].
+    pub fn kinetic_energy(&self) -> f64 {
+        let g = &self.setup.grid;
+        let volume: f64 = g.h.iter().product();
+        let sum: f64 = self.cell_velocity().iter().map(|v| v * v).sum();
+        0.5 * self.setup.density * sum * volume
+    }
+
+    /// Largest |∇·u| over the cells [1/s].
+    pub fn max_divergence(&mut self) -> f64 {
+        crate::mac::divergence(&self.setup.grid, &self.u, &mut self.scratch);
+        self.scratch.iter().fold(0.0, |m, d| m.max(d.abs()))
+    }
+
+    /// The Courant number of a step of `dt`: max|u|·Δt/min h.
+    pub fn courant(&self, dt: f64) -> f64 {
+        let h = self
+            .setup
+            .grid
+            .h
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        self.u.max_abs() * dt / h
+    }
+
+    /// Advances the flow by `dt` [s].
+    pub fn step(&mut self, dt: f64) -> Result<StepReport, FlowError> {
+        let courant = self.courant(dt);
+        if !courant.is_finite() {
+            return Err(FlowError::NonFinite);
+        }
+        if courant > MAX_COURANT {
+            return Err(FlowError::Courant(courant));
+        }
+        let grid = &self.setup.grid;
+        let sides = &self.setup.sides;
+        let h = grid.h;
+        let nu = self.setup.nu;
+        for p in self.padded.iter_mut().flatten() {
+            p.load(&self.u);
+            p.fill_ghosts(sides);
+        }
+        // Adams–Bashforth to n + ½ for steps of any length: N^{n+½} ≈
+        // (1 + r/2)Nⁿ − (r/2)N^{n−1}, r = Δt/Δt_old; Euler on the first step.
+        let r = self.last_dt.map_or(0.0, |old| dt / old);
+        let mut viscous_iterations = 0;
+        for c in 0..3 {
+            let (Some(u), Some(w)) = (&self.padded[c], &mut self.work[c]) else {
+                continue;
+            };
+            std::mem::swap(&mut w.n, &mut w.n_old);
+            advection(&self.padded, c, h, &mut w.flux, &mut w.n);
+            laplacian(u, h, &mut w.lap);
+            // The change over the step solves (I − αL)δ = Δt(−N^{n+½} − ∇q + νLuⁿ),
+            // which is eq. (3.18) less (I − αL)uⁿ.
+            let grad_q = &mut w.grad_q;
+            for_each_gradient(grid, &self.q, c, |f, g| grad_q[f] = g);
+            let lay = u.lay;
+            let m = lay.m;
+            let (n, n_old, lap, b) = (&w.n, &w.n_old, &w.lap, &mut w.b);
+            lay.for_box(lay.unknown_box(), |f, p| {
+                let face = f[0] as usize + m[0] * (f[1] as usize + m[1] * f[2] as usize);
+                let adv = (1.0 + 0.5 * r) * n[p] - 0.5 * r * n_old[p];
+                b[p] = dt * (-adv - grad_q[face] + nu * lap[p]);
+            });
+            viscous_iterations += w.helmholtz.solve(
+                sides,
+                h,
+                0.5 * nu * dt,
+                &w.b,
+                &mut w.delta,
+                VISCOUS_TOLERANCE,
+            )?;
+        }
+        for c in 0..3 {
+            let (Some(u), Some(w)) = (&mut self.padded[c], &self.work[c]) else {
+                continue;
+            };
+            let lay = u.lay;
+            let d = &w.delta.data;
+            lay.for_box(lay.unknown_box(), |_, p| u.data[p] += d[p]);
+            u.fill_ghosts(sides);
+            u.store(&mut self.u);
+        }
+        let pressure_iterations = project(
+            grid,
+            &mut self.poisson,
+            &mut self.u,
+            dt,
+            &mut self.phi,
+            &mut self.scratch,
+        )?;
+        // Eq. (3.20) with A = −∇²: p^{n+½} = q + φ + (νΔt/2)Aφ.
+        self.poisson.apply(&self.phi, &mut self.scratch);
+        let alpha = 0.5 * nu * dt;
+        for ((q, phi), a_phi) in self.q.iter_mut().zip(&self.phi).zip(&self.scratch) {
+            *q += phi + alpha * a_phi;
+        }
+        self.last_dt = Some(dt);
+        self.time += dt;
+        Ok(StepReport {
+            courant,
+            pressure_iterations,
+            viscous_iterations,
+        })
+    }
+}

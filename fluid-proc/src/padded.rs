@@ -1,0 +1,204 @@
+//! One velocity component on its MAC faces with three layers of ghost values
+//! on every side, so that the WENO5 stencils of the advection term and the
+//! Laplacian of the viscous term read the same way at a side as inside.
+//!
+//! The ghosts carry the side conditions (`side.rs`):
+//! - a given velocity U: the normal component's side face is U itself and
+//!   its ghosts mirror oddly about it (2U − u); the tangential components'
+//!   ghosts mirror oddly about the side, half a cell away (2U − u);
+//! - an outflow: constant extrapolation of the last face or cell;
+//! - periodic: the values from the other end.
+//!
+//! An axis one cell thick (the z of a 2-D flow) has no ghosts: it is
+//! periodic, and nothing varies along it.
+
+use crate::grid::Grid;
+use crate::mac::Faces;
+use crate::side::{Side, Sides};
+
+/// Ghost layers per side: WENO5 reads three values beyond a face.
+pub const GHOSTS: usize = 3;
+
+/// Where each face of one component sits in its padded array.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layout {
+    /// Faces along each axis without ghosts: n + 1 along c, n elsewhere.
+    pub m: [usize; 3],
+    /// Ghost layers per axis (GHOSTS, or 0 on an axis one cell thick).
+    pub g: [usize; 3],
+    pub stride: [usize; 3],
+    /// The faces the momentum equation updates, as [low, high) per axis: a
+    /// face on a side with a given velocity is not one of them, nor is the
+    /// periodic repeat (face n) of face 0.
+    pub unknown: [[usize; 2]; 3],
+}
+
+impl Layout {
+    /// Index of face `f` (ghosts at negative or ≥ m coordinates).
+    #[inline(always)]
+    pub fn at(&self, f: [isize; 3]) -> usize {
+        (0..3)
+            .map(|a| (f[a] + self.g[a] as isize) as usize * self.stride[a])
+            .sum()
+    }
+
+    pub fn dims(&self) -> [usize; 3] {
+        [0, 1, 2].map(|a| self.m[a] + 2 * self.g[a])
+    }
+
+    /// Calls `f` with the index of every face in the box `range` (face
+    /// coordinates, ghosts included when the range reaches into them).
+    #[inline(always)]
+    pub fn for_box(&self, range: [[isize; 2]; 3], mut f: impl FnMut([isize; 3], usize)) {
+        for k in range[2][0]..range[2][1] {
+            for j in range[1][0]..range[1][1] {
+                let mut p = self.at([range[0][0], j, k]);
+                for i in range[0][0]..range[0][1] {
+                    f([i, j, k], p);
+                    p += 1;
+                }
+            }
+        }
+    }
+
+    /// The box of unknown faces.
+    pub fn unknown_box(&self) -> [[isize; 2]; 3] {
+        self.unknown.map(|[lo, hi]| [lo as isize, hi as isize])
+    }
+}
+
+/// Component `c` of the velocity on its faces, with ghosts.
+#[derive(Debug, Clone)]
+pub struct Padded {
+    /// The component (the axis its faces are normal to).
+    pub c: usize,
+    pub lay: Layout,
+    pub data: Vec<f64>,
+}
+
+impl Padded {
+    pub fn new(grid: &Grid, sides: &Sides, c: usize) -> Padded {
+        let n = grid.n;
+        let mut m = n;
+        m[c] += 1;
+        let g = n.map(|n| if n > 1 { GHOSTS } else { 0 });
+        let dims = [0, 1, 2].map(|a| m[a] + 2 * g[a]);
+        let stride = [1, dims[0], dims[0] * dims[1]];
+        let mut unknown = n.map(|n| [0, n]);
+        unknown[c] = [
+            matches!(sides[c][0], Side::Velocity(_)) as usize,
+            n[c] + matches!(sides[c][1], Side::Outflow) as usize,
+        ];
+        Padded {
+            c,
+            lay: Layout {
+                m,
+                g,
+                stride,
+                unknown,
+            },
+            data: vec![0.0; dims.iter().product()],
+        }
+    }
+
+    /// Copies the component's faces (ghosts untouched).
+    pub fn load(&mut self, u: &Faces) {
+        let src = &u.u[self.c];
+        let m = self.lay.m;
+        for k in 0..m[2] {
+            for j in 0..m[1] {
+                let s = m[0] * (j + m[1] * k);
+                let d = self.lay.at([0, j as isize, k as isize]);
+                self.data[d..d + m[0]].copy_from_slice(&src[s..s + m[0]]);
+            }
+        }
+    }
+
+    /// Copies every face back, sides and periodic repeats included.
+    pub fn store(&self, u: &mut Faces) {
+        let dst = &mut u.u[self.c];
+        let m = self.lay.m;
+        for k in 0..m[2] {
+            for j in 0..m[1] {
+                let d = m[0] * (j + m[1] * k);
+                let s = self.lay.at([0, j as isize, k as isize]);
+                dst[d..d + m[0]].copy_from_slice(&self.data[s..s + m[0]]);
+            }
+        }
+    }
+
+    /// Sets the side faces and fills the ghosts from the values inside, axis
+    /// by axis over the whole range of the others, so edges and corners
+    /// come out right too.
+    pub fn fill_ghosts(&mut self, sides: &Sides) {
+        let lay = self.lay;
+        let dims = lay.dims();
+        for a in 0..3 {
+            if lay.g[a] == 0 {
+                continue;
+            }
+            let (b, e) = ((a + 1) % 3, (a + 2) % 3);
+            for ie in 0..dims[e] {
+                for ib in 0..dims[b] {
+                    let mut f = [0isize; 3];
+                    f[b] = ib as isize - lay.g[b] as isize;
+                    f[e] = ie as isize - lay.g[e] as isize;
+                    let base = lay.at(f);
+                    self.fill_line(base, a, sides[a]);
+                }
+            }
+        }
+    }
+
+    /// The ghosts of one line along axis a, whose face 0 is at `base`.
+    fn fill_line(&mut self, base: usize, a: usize, sides: [Side; 2]) {
+        let s = self.lay.stride[a] as isize;
+        let g = self.lay.g[a] as isize;
+        let m = self.lay.m[a] as isize;
+        let c = self.c;
+        let normal = a == c;
+        // The last face or cell (for the normal component face n = m − 1).
+        let last = m - 1;
+        let d = &mut self.data;
+        let ix = |k: isize| (base as isize + k * s) as usize;
+        match sides {
+            [Side::Periodic, Side::Periodic] => {
+                // Normal: face n repeats face 0, and the period is n = m − 1.
+                let period = if normal { m - 1 } else { m };
+                if normal {
+                    d[ix(last)] = d[ix(0)];
+                }
+                for k in 1..=g {
+                    d[ix(-k)] = d[ix(period - k)];
+                    d[ix(last + k)] = d[ix(last - period + k)];
+                }
+            }
+            [low, high] => {
+                for (side, up) in [(low, false), (high, true)] {
+                    let (edge, dir) = if up { (last, 1) } else { (0, -1) };
+                    match side {
+                        Side::Velocity(u) if normal => {
+                            d[ix(edge)] = u[c];
+                            for k in 1..=g {
+                                d[ix(edge + dir * k)] = 2.0 * u[c] - d[ix(edge - dir * k)];
+                            }
+                        }
+                        Side::Velocity(u) => {
+                            for k in 1..=g {
+                                d[ix(edge + dir * k)] = 2.0 * u[c] - d[ix(edge - dir * (k - 1))];
+                            }
+                        }
+                        Side::Outflow => {
+                            for k in 1..=g {
+                                d[ix(edge + dir * k)] = d[ix(edge)];
+                            }
+                        }
+                        // A periodic side facing a non-periodic one is
+                        // refused when the flow is built.
+                        Side::Periodic => {}
+                    }
+                }
+            }
+        }
+    }
+}

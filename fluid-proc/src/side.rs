@@ -1,0 +1,47 @@
+//! What each side of the flow box imposes on the velocity (seed 000 §3.2.2,
+//! the B(u*) of eq. 3.18), and what that means for the pressure correction.
+
+use crate::grid::Bc;
+
+/// One side of the box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Side {
+    /// The velocity on the side is given [m/s]: a no-slip wall (zero), a
+    /// moving wall (a lid) or an inflow. φ has ∂φ/∂n = 0 there.
+    Velocity([f64; 3]),
+    /// An outflow at p = 0: the velocity has no normal gradient.
+    Outflow,
+    /// Wraps to the opposite side, which must be periodic too.
+    Periodic,
+}
+
+/// The six sides: `sides[d] = [low, high]` along axis d.
+pub type Sides = [[Side; 2]; 3];
+
+impl Side {
+    pub const WALL: Side = Side::Velocity([0.0; 3]);
+
+    /// The condition on the pressure correction φ (eq. 3.19).
+    pub fn bc(self) -> Bc {
+        match self {
+            Side::Velocity(_) => Bc::Neumann,
+            Side::Outflow => Bc::Dirichlet,
+            Side::Periodic => Bc::Periodic,
+        }
+    }
+
+    /// The same side with its given velocity set to zero: what the ghost
+    /// values of a correction (a difference of two fields that both obey
+    /// the sides) must obey.
+    pub fn homogeneous(self) -> Side {
+        match self {
+            Side::Velocity(_) => Side::WALL,
+            s => s,
+        }
+    }
+}
+
+/// The pressure sides of a box with these velocity sides.
+pub fn bcs(sides: &Sides) -> [[Bc; 2]; 3] {
+    sides.map(|s| s.map(Side::bc))
+}

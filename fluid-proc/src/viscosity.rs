@@ -1,0 +1,137 @@
+//! The Crank–Nicolson viscous term of eq. (3.18): the face Laplacian of one
+//! velocity component, and the Helmholtz solve (I − αL)δ = b for the change
+//! δ = u* − uⁿ over a step, with α = νΔt/2.
+//!
+//! δ is the difference of two fields with the same side velocities, so its
+//! ghosts follow the homogeneous sides (`Side::homogeneous`): the operator
+//! is then symmetric and positive definite (a mirrored ghost adds to the
+//! diagonal, a copied one cancels), and conjugate gradients solve it. Its
+//! condition number is below 1 + 4α·Σ1/h², a few at the step lengths the
+//! advection allows, so no preconditioner is needed.
+
+use crate::padded::Padded;
+use crate::side::Sides;
+
+/// out = L u = Σ_a (u₊ − 2u + u₋)/h_a² on the unknown faces (ghosts filled).
+pub fn laplacian(u: &Padded, h: [f64; 3], out: &mut [f64]) {
+    let lay = u.lay;
+    let w = h.map(|h| 1.0 / (h * h));
+    let axes: Vec<(usize, f64)> = (0..3)
+        .filter(|&a| lay.g[a] > 0)
+        .map(|a| (lay.stride[a], w[a]))
+        .collect();
+    let d = &u.data;
+    lay.for_box(lay.unknown_box(), |_, p| {
+        out[p] = axes
+            .iter()
+            .map(|&(s, w)| w * (d[p + s] - 2.0 * d[p] + d[p - s]))
+            .sum();
+    });
+}
+
+/// Why the viscous solve stopped.
+#[derive(Debug, thiserror::Error)]
+#[error("the viscous (Crank–Nicolson) solve of velocity component {component} did not converge in {iterations} iterations (relative residual {reached:e})")]
+pub struct ViscousError {
+    pub component: usize,
+    pub iterations: usize,
+    pub reached: f64,
+}
+
+/// Most conjugate-gradient iterations of one viscous solve.
+const MAX_ITERATIONS: usize = 200;
+
+/// Scratch for the solve of one component.
+#[derive(Debug, Clone)]
+pub struct Helmholtz {
+    p: Padded,
+    r: Vec<f64>,
+    q: Vec<f64>,
+}
+
+impl Helmholtz {
+    pub fn new(like: &Padded) -> Helmholtz {
+        Helmholtz {
+            p: like.clone(),
+            r: vec![0.0; like.data.len()],
+            q: vec![0.0; like.data.len()],
+        }
+    }
+
+    /// Solves (I − αL)δ = b on the unknown faces to a relative residual of
+    /// `tolerance`, from the guess in `delta`. Returns the iterations.
+    pub fn solve(
+        &mut self,
+        sides: &Sides,
+        h: [f64; 3],
+        alpha: f64,
+        b: &[f64],
+        delta: &mut Padded,
+        tolerance: f64,
+    ) -> Result<usize, ViscousError> {
+        let homogeneous = sides.map(|s| s.map(|s| s.homogeneous()));
+        let lay = delta.lay;
+        let range = lay.unknown_box();
+        let dot = |x: &[f64], y: &[f64]| {
+            let mut s = 0.0;
+            lay.for_box(range, |_, p| s += x[p] * y[p]);
+            s
+        };
+        let norm_b = dot(b, b).sqrt();
+        // r = b − (I − αL)δ, and the first direction p = r.
+        delta.fill_ghosts(&homogeneous);
+        laplacian(delta, h, &mut self.q);
+        let (r, p, q, d) = (&mut self.r, &mut self.p.data, &self.q, &delta.data);
+        lay.for_box(range, |_, i| {
+            r[i] = b[i] - (d[i] - alpha * q[i]);
+            p[i] = r[i];
+        });
+        let mut rr = dot(&self.r, &self.r);
+        let goal = tolerance * norm_b;
+        if rr.sqrt() <= goal || norm_b == 0.0 {
+            return Ok(0);
+        }
+        let w = h.map(|h| 1.0 / (h * h));
+        let axes: Vec<(usize, f64)> = (0..3)
+            .filter(|&a| lay.g[a] > 0)
+            .map(|a| (lay.stride[a], alpha * w[a]))
+            .collect();
+        for it in 1..=MAX_ITERATIONS {
+            // q = (I − αL)p, and p·q.
+            self.p.fill_ghosts(&homogeneous);
+            let (p, q) = (&self.p.data, &mut self.q);
+            let mut pq = 0.0;
+            lay.for_box(range, |_, i| {
+                let mut v = p[i];
+                for &(s, aw) in &axes {
+                    v -= aw * (p[i + s] - 2.0 * p[i] + p[i - s]);
+                }
+                q[i] = v;
+                pq += p[i] * v;
+            });
+            let step = rr / pq;
+            if !step.is_finite() {
+                break;
+            }
+            let (r, q, d) = (&mut self.r, &self.q, &mut delta.data);
+            let mut rr_new = 0.0;
+            lay.for_box(range, |_, i| {
+                d[i] += step * p[i];
+                r[i] -= step * q[i];
+                rr_new += r[i] * r[i];
+            });
+            if rr_new.sqrt() <= goal {
+                return Ok(it);
+            }
+            let beta = rr_new / rr;
+            rr = rr_new;
+            let p = &mut self.p.data;
+            lay.for_box(range, |_, i| p[i] = r[i] + beta * p[i]);
+        }
+        Err(ViscousError {
+            component: delta.c,
+            iterations: MAX_ITERATIONS,
+            reached: rr.sqrt() / norm_b,
+        })
+    }
+}
