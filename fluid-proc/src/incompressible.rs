@@ -57,6 +57,8 @@ pub struct FlowSetup {
 pub struct StepReport {
     pub courant: f64,
     pub pressure_iterations: usize,
+    /// Wall-clock time of the projection (divergence, solve, update) [s].
+    pub pressure_seconds: f64,
     pub viscous_iterations: usize,
 }
 
@@ -262,6 +264,7 @@ impl Incompressible {
             u.fill_ghosts(sides);
             u.store(&mut self.u);
         }
+        let clock = std::time::Instant::now();
         let pressure_iterations = project(
             grid,
             &mut self.poisson,
@@ -270,6 +273,7 @@ impl Incompressible {
             &mut self.phi,
             &mut self.scratch,
         )?;
+        let pressure_seconds = clock.elapsed().as_secs_f64();
         // Eq. (3.20) with A = −∇²: p^{n+½} = q + φ + (νΔt/2)Aφ.
         self.poisson.apply(&self.phi, &mut self.scratch);
         let alpha = 0.5 * nu * dt;
@@ -281,6 +285,7 @@ impl Incompressible {
         Ok(StepReport {
             courant,
             pressure_iterations,
+            pressure_seconds,
             viscous_iterations,
         })
     }

@@ -24,6 +24,7 @@ pub mod mac;
 pub mod multigrid;
 pub mod padded;
 pub mod poisson;
+pub mod profile;
 pub mod setup;
 pub mod side;
 pub mod viscosity;

@@ -1,9 +1,11 @@
-//! The lid-driven cavity at Re = 100 against Ghia, Ghia & Shin, J. Comput.
-//! Phys. 48, 387–411 (1982), Tables I and II: u along the vertical centre
-//! line and v along the horizontal one, at their tabulated points.
+//! The lid-driven cavity at Re = 100 (`scenarios/cavity.toml`) against Ghia,
+//! Ghia & Shin, J. Comput. Phys. 48, 387–411 (1982), Tables I and II: u
+//! along the vertical centre line and v along the horizontal one at their
+//! tabulated points; and its extrema against the converged values of
+//! Botella & Peyret (1998).
 
 use coupler::scenario::flow::SideSpec;
-use fluid_proc::incompressible::Incompressible;
+use fluid_proc::profile::{extremum, face_line, value_at, CAVITY_RE100_EXTREMA as CONVERGED};
 use fluid_proc::setup::flow_from;
 
 /// Ghia et al. Table I, Re = 100: (y, u) on x = 0.5.
@@ -48,49 +50,6 @@ const GHIA_V: [(f64, f64); 17] = [
     (1.0000, 0.00000),
 ];
 
-/// Botella & Peyret, Comput. Fluids 27, 421–433 (1998): the extrema at
-/// Re = 100 of their Chebyshev spectral solution, converged to all digits
-/// shown: u_min on x = ½, v_max and v_min on y = ½.
-const CONVERGED: [f64; 3] = [-0.2140424, 0.1795728, -0.2538030];
-
-/// Component d (0: u on x = ½, 1: v on y = ½) along its centre line, as
-/// (position, value) from side to side: the side velocities at 0 and 1,
-/// the faces on the line at the cell centres between.
-fn centre_line(flow: &Incompressible, d: usize, lid: f64) -> Vec<(f64, f64)> {
-    let n = flow.grid().n[0];
-    let h = 1.0 / n as f64;
-    let mut m = [n, n];
-    m[d] += 1;
-    let mut line = vec![(0.0, 0.0)];
-    for k in 0..n {
-        let mut f = [0; 2];
-        f[d] = n / 2;
-        f[1 - d] = k;
-        line.push(((k as f64 + 0.5) * h, flow.u.u[d][f[0] + m[0] * f[1]]));
-    }
-    // The top side moves (u = lid); the right side is a wall.
-    line.push((1.0, if d == 0 { lid } else { 0.0 }));
-    line
-}
-
-/// The line's value at `s`, linear between its points.
-fn at(line: &[(f64, f64)], s: f64) -> f64 {
-    let k = line.partition_point(|p| p.0 <= s).clamp(1, line.len() - 1);
-    let ((a, fa), (b, fb)) = (line[k - 1], line[k]);
-    fa + (fb - fa) * (s - a) / (b - a)
-}
-
-/// The line's extremum (the minimum for `sign` = −1), from the parabola
-/// through the extreme point and its neighbours (points equally spaced).
-fn extremum(line: &[(f64, f64)], sign: f64) -> f64 {
-    let k = (2..line.len() - 2)
-        .max_by(|&a, &b| (sign * line[a].1).total_cmp(&(sign * line[b].1)))
-        .unwrap();
-    let (a, b, c) = (line[k - 1].1, line[k].1, line[k + 1].1);
-    let curvature = a - 2.0 * b + c;
-    b - 0.125 * (c - a) * (c - a) / curvature
-}
-
 #[test]
 fn the_cavity_at_re_100_matches_ghia_and_the_converged_extrema() {
     // The shipped scene, run to its end (t = 15 s, steady to a few 1e-5
@@ -106,15 +65,18 @@ fn the_cavity_at_re_100_matches_ghia_and_the_converged_extrema() {
     for w in 0..scenario.windows() {
         flow.step(scenario.window_span(w).1).unwrap();
     }
-    let u = centre_line(&flow, 0, lid);
-    let v = centre_line(&flow, 1, lid);
+    // u on the vertical centre line x = ½ (face n/2 along x), v on the
+    // horizontal one.
+    let n = flow.grid().n[0];
+    let u = face_line(&flow, 0, 1, [n / 2, 0, 0]);
+    let v = face_line(&flow, 1, 0, [0, n / 2, 0]);
     // Every tabulated point of Ghia et al. within 2 % of the lid speed. The
     // largest difference is about 0.009 (v at x = 0.8594): Ghia's values are
     // those of a 129² grid, and their extrema lie 1.3–3.2 % inside the
     // converged ones (icoFoam, converged on 128², is as far from them).
     for (line, table, name) in [(&u, &GHIA_U, "u"), (&v, &GHIA_V, "v")] {
         for &(s, ghia) in table {
-            let ours = at(line, s);
+            let ours = value_at(line, s);
             assert!(
                 (ours - ghia).abs() <= 0.02 * lid,
                 "{name}({s}) = {ours}, Ghia et al. {ghia}"

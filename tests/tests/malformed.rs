@@ -612,6 +612,7 @@ fn the_shipped_scenarios_pass_check() {
         "cloth-drop",
         "ball-cloth",
         "cavity",
+        "c9-tunnel",
     ] {
         let out = coupler(&["check", scenario_path(name).to_str().unwrap()]);
         assert!(
