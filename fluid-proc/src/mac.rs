@@ -44,35 +44,47 @@ impl Faces {
         f[0] + m[0] * (f[1] + m[1] * f[2])
     }
 
+    /// Largest difference of a face velocity from `other`'s [m/s].
+    pub fn max_difference(&self, other: &Faces) -> f64 {
+        self.u
+            .iter()
+            .zip(&other.u)
+            .flat_map(|(a, b)| a.iter().zip(b))
+            .fold(0.0, |m, (a, b)| m.max((a - b).abs()))
+    }
+
     /// Largest face speed [m/s].
     pub fn max_abs(&self) -> f64 {
         self.u.iter().flatten().fold(0.0, |m, v| m.max(v.abs()))
     }
 }
 
-/// div[c] = Σ_d (u_d above − u_d below)/h_d [1/s].
-pub fn divergence(g: &Grid, u: &Faces, div: &mut [f64]) {
-    let n = g.n;
-    let inv_h = g.h.map(|h| 1.0 / h);
-    // Faces per axis of each component, and the step from a cell's face
-    // below to its face above.
+/// Calls `f(cell, below, up)` for every cell in index order: `below[d]` is
+/// the index of the cell's face normal to d on its low side, and
+/// `below[d] + up[d]` the one on its high side.
+pub fn for_each_cell_faces(n: [usize; 3], mut f: impl FnMut(usize, [usize; 3], [usize; 3])) {
     let m = [0, 1, 2].map(|d| face_counts(n, d));
     let up = [0, 1, 2].map(|d| [1, m[d][0], m[d][0] * m[d][1]][d]);
-    let mut c = 0;
+    let mut cell = 0;
     for k in 0..n[2] {
         for j in 0..n[1] {
-            let below = [0, 1, 2].map(|d| m[d][0] * (j + m[d][1] * k));
+            let row = [0, 1, 2].map(|d| m[d][0] * (j + m[d][1] * k));
             for i in 0..n[0] {
-                let mut s = 0.0;
-                for d in 0..3 {
-                    let f = below[d] + i;
-                    s += (u.u[d][f + up[d]] - u.u[d][f]) * inv_h[d];
-                }
-                div[c] = s;
-                c += 1;
+                f(cell, row.map(|r| r + i), up);
+                cell += 1;
             }
         }
     }
+}
+
+/// div[c] = Σ_d (u_d above − u_d below)/h_d [1/s].
+pub fn divergence(g: &Grid, u: &Faces, div: &mut [f64]) {
+    let inv_h = g.h.map(|h| 1.0 / h);
+    for_each_cell_faces(g.n, |c, below, up| {
+        div[c] = (0..3)
+            .map(|d| (u.u[d][below[d] + up[d]] - u.u[d][below[d]]) * inv_h[d])
+            .sum();
+    });
 }
 
 /// Faces along each axis of the faces normal to d: n + 1 along d.

@@ -6,8 +6,10 @@
 //! ghosts follow the homogeneous sides (`Side::homogeneous`): the operator
 //! is then symmetric and positive definite (a mirrored ghost adds to the
 //! diagonal, a copied one cancels), and conjugate gradients solve it. Its
-//! condition number is below 1 + 4α·Σ1/h², a few at the step lengths the
-//! advection allows, so no preconditioner is needed.
+//! condition number is below 1 + 4α·Σ1/h²: a few where the cells are
+//! coarse for the viscosity (air around a parachute, the cavity), so no
+//! preconditioner is used; a very viscous flow on fine cells takes more
+//! iterations.
 
 use crate::padded::Padded;
 use crate::side::Sides;
@@ -38,8 +40,9 @@ pub struct ViscousError {
     pub reached: f64,
 }
 
-/// Most conjugate-gradient iterations of one viscous solve.
-const MAX_ITERATIONS: usize = 200;
+/// Most conjugate-gradient iterations of one viscous solve: CG needs about
+/// √κ·ln(2/tolerance)/2, some 200 at νΔt/h² = 100 (κ ≈ 400 in 2-D).
+const MAX_ITERATIONS: usize = 1000;
 
 /// Scratch for the solve of one component.
 #[derive(Debug, Clone)]
@@ -88,7 +91,12 @@ impl Helmholtz {
         });
         let mut rr = dot(&self.r, &self.r);
         let goal = tolerance * norm_b;
-        if rr.sqrt() <= goal || norm_b == 0.0 {
+        if norm_b == 0.0 {
+            // Nothing changes over the step: δ = 0 exactly, whatever the guess.
+            lay.for_box(range, |_, i| delta.data[i] = 0.0);
+            return Ok(0);
+        }
+        if rr.sqrt() <= goal {
             return Ok(0);
         }
         let w = h.map(|h| 1.0 / (h * h));
@@ -111,7 +119,11 @@ impl Helmholtz {
             });
             let step = rr / pq;
             if !step.is_finite() {
-                break;
+                return Err(ViscousError {
+                    component: delta.c,
+                    iterations: it,
+                    reached: f64::NAN,
+                });
             }
             let (r, q, d) = (&mut self.r, &self.q, &mut delta.data);
             let mut rr_new = 0.0;

@@ -462,7 +462,7 @@ const CASES: &[Case] = &[
     },
     Case {
         name: "flow-courant",
-        edit: |_| cavity_with("window = 3.90625e-3", "window = 0.05"),
+        edit: |_| cavity_with("window = 3.125e-3", "window = 0.05"),
         key: Some("coupling.window"),
         says: "(the Courant number)",
         line_of: Some("window = 0.05"),
@@ -480,6 +480,20 @@ const CASES: &[Case] = &[
         key: Some("fluid.sides.z_low"),
         says: "one cell thick along z",
         line_of: Some("z_low = \"wall\""),
+    },
+    Case {
+        name: "flow-too-few-cells",
+        edit: |_| cavity_with("cells = [128, 128, 1]", "cells = [128, 2, 1]"),
+        key: Some("fluid.box.cells"),
+        says: "or at least 4",
+        line_of: Some("cells = [128, 2, 1]"),
+    },
+    Case {
+        name: "flow-lid-along-thin-axis",
+        edit: |_| cavity_with("velocity = [1.0, 0.0, 0.0]", "velocity = [0.0, 0.0, 1.0]"),
+        key: Some("fluid.sides.y_high"),
+        says: "moves along z, but the box is one cell thick there",
+        line_of: Some("velocity = [0.0, 0.0, 1.0]"),
     },
     Case {
         name: "missing-mesh",

@@ -101,18 +101,19 @@ impl FluidSection {
         Some(self.sides.unwrap_or_default().resolved(b.cells))
     }
 
-    /// The Courant number a flow step of `dt` starts with: the fastest of
-    /// the side and initial velocities over the smallest cell (None for a
-    /// model with no cells).
+    /// The Courant number Σ_a|u_a|·Δt/h_a a flow step of `dt` starts with,
+    /// at the fastest of the side and initial velocities (None for a model
+    /// with no cells).
     pub fn start_courant(&self, dt: f64) -> Option<f64> {
-        let b = self.flow_box?;
+        let h = self.flow_box?.spacing();
         let sides = self.resolved_sides()?;
-        let initial = self
-            .initial_velocity
-            .map_or(0.0, |v| v.iter().map(|x| x * x).sum::<f64>().sqrt());
-        let speed = FlowSides::max_speed(&sides).max(initial);
-        let h = b.spacing().into_iter().fold(f64::INFINITY, f64::min);
-        Some(speed * dt / h)
+        let courant = |v: [f64; 3]| (0..3).map(|a| v[a].abs() * dt / h[a]).sum::<f64>();
+        Some(
+            FlowSides::velocities(&sides)
+                .chain(self.initial_velocity)
+                .map(courant)
+                .fold(0.0, f64::max),
+        )
     }
 
     pub fn check(&self, c: &mut Checker) {
