@@ -70,20 +70,37 @@ pub fn coupler(args: &[&str]) -> Output {
         .expect("run coupler")
 }
 
-/// Run a scenario into `out`; panics with the coupler's stderr if it fails.
-pub fn run_ok(scenario: &Path, out: &Path) {
-    let o = coupler(&[
+/// `coupler run scenario --out out`.
+pub fn run(scenario: &Path, out: &Path) -> Output {
+    coupler(&[
         "run",
         scenario.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ])
+}
+
+/// Run a scenario into `out`; panics with the coupler's stderr if it fails.
+pub fn run_ok(scenario: &Path, out: &Path) {
+    let o = run(scenario, out);
     assert!(
         o.status.success(),
         "run of {} failed:\n{}",
         scenario.display(),
         String::from_utf8_lossy(&o.stderr)
     );
+}
+
+/// Run a scenario that must fail into `out`: exit code 1 and a
+/// `run failed:` line, which is returned.
+pub fn run_failed(scenario: &Path, out: &Path) -> String {
+    let o = run(scenario, out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "a failed run exits 1:\n{err}");
+    err.lines()
+        .find(|l| l.starts_with("run failed:"))
+        .unwrap_or_else(|| panic!("no failure line in:\n{err}"))
+        .to_string()
 }
 
 /// `monitors.csv` as columns.

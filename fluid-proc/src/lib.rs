@@ -13,10 +13,18 @@
 //!   - the pressure operator (`laplacian.rs`), its multigrid-preconditioned
 //!     conjugate-gradient solve (`multigrid.rs`, `poisson.rs`) and the
 //!     projection on the staggered grid (`mac.rs`).
+//! - The compressible Euler solver of seed 000 §3.2.1 (`compressible.rs`,
+//!   third-order TVD Runge–Kutta): the ideal gas and its characteristic
+//!   fields (`gas.rs`), the characteristic WENO5 flux along a line
+//!   (`characteristic.rs`), and the exact Riemann solution it is checked
+//!   against (`riemann.rs`).
 //!
 //! The physics never touches IPC.
 
 pub mod advection;
+pub mod characteristic;
+pub mod compressible;
+pub mod gas;
 pub mod grid;
 pub mod incompressible;
 pub mod laplacian;
@@ -25,6 +33,7 @@ pub mod multigrid;
 pub mod padded;
 pub mod poisson;
 pub mod profile;
+pub mod riemann;
 pub mod setup;
 pub mod side;
 pub mod viscosity;

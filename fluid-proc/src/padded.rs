@@ -61,6 +61,34 @@ impl Layout {
         }
     }
 
+    /// A layout of cell-centred values: n cells, ghosts on each axis more
+    /// than one cell thick, every cell an unknown.
+    pub fn cells(n: [usize; 3]) -> Layout {
+        let g = n.map(|n| if n > 1 { GHOSTS } else { 0 });
+        let dims = [0, 1, 2].map(|a| n[a] + 2 * g[a]);
+        Layout {
+            m: n,
+            g,
+            stride: [1, dims[0], dims[0] * dims[1]],
+            unknown: n.map(|n| [0, n]),
+        }
+    }
+
+    /// Calls `f` with the index of entry 0 along axis `a` of every line
+    /// along a, over the whole padded range of the other two axes.
+    pub fn for_each_line(&self, a: usize, mut f: impl FnMut(usize)) {
+        let dims = self.dims();
+        let (b, e) = ((a + 1) % 3, (a + 2) % 3);
+        for ie in 0..dims[e] {
+            for ib in 0..dims[b] {
+                let mut at = [0isize; 3];
+                at[b] = ib as isize - self.g[b] as isize;
+                at[e] = ie as isize - self.g[e] as isize;
+                f(self.at(at));
+            }
+        }
+    }
+
     /// The box of unknown faces.
     pub fn unknown_box(&self) -> [[isize; 2]; 3] {
         self.unknown.map(|[lo, hi]| [lo as isize, hi as isize])
@@ -79,24 +107,18 @@ pub struct Padded {
 impl Padded {
     pub fn new(grid: &Grid, sides: &Sides, c: usize) -> Padded {
         let n = grid.n;
-        let mut m = n;
-        m[c] += 1;
-        let g = n.map(|n| if n > 1 { GHOSTS } else { 0 });
-        let dims = [0, 1, 2].map(|a| m[a] + 2 * g[a]);
-        let stride = [1, dims[0], dims[0] * dims[1]];
-        let mut unknown = n.map(|n| [0, n]);
-        unknown[c] = [
+        // The faces normal to c: one more than the cells along c.
+        let mut lay = Layout::cells(n);
+        lay.m[c] += 1;
+        let dims = lay.dims();
+        lay.stride = [1, dims[0], dims[0] * dims[1]];
+        lay.unknown[c] = [
             matches!(sides[c][0], Side::Velocity(_)) as usize,
             n[c] + matches!(sides[c][1], Side::Outflow) as usize,
         ];
         Padded {
             c,
-            lay: Layout {
-                m,
-                g,
-                stride,
-                unknown,
-            },
+            lay,
             data: vec![0.0; dims.iter().product()],
         }
     }
@@ -132,20 +154,9 @@ impl Padded {
     /// come out right too.
     pub fn fill_ghosts(&mut self, sides: &Sides) {
         let lay = self.lay;
-        let dims = lay.dims();
         for a in 0..3 {
-            if lay.g[a] == 0 {
-                continue;
-            }
-            let (b, e) = ((a + 1) % 3, (a + 2) % 3);
-            for ie in 0..dims[e] {
-                for ib in 0..dims[b] {
-                    let mut f = [0isize; 3];
-                    f[b] = ib as isize - lay.g[b] as isize;
-                    f[e] = ie as isize - lay.g[e] as isize;
-                    let base = lay.at(f);
-                    self.fill_line(base, a, sides[a]);
-                }
+            if lay.g[a] > 0 {
+                lay.for_each_line(a, |base| self.fill_line(base, a, sides[a]));
             }
         }
     }

@@ -1,5 +1,8 @@
-//! The incompressible flow a scenario's `[fluid]` section describes.
+//! The flow a scenario's `[fluid]` section describes: the incompressible
+//! flow or the compressible gas, at their initial state.
 
+use crate::compressible::{Compressible, GasSetup, GasSide};
+use crate::gas::{Gas, Primitive};
 use crate::grid::Grid;
 use crate::incompressible::{FlowSetup, Incompressible};
 use crate::side::{bcs, Side};
@@ -27,8 +30,8 @@ pub fn flow_from(section: &FluidSection) -> Option<Incompressible> {
     let mut flow = Incompressible::new(FlowSetup {
         grid,
         sides,
-        density: section.density,
-        nu: section.viscosity / section.density,
+        density: section.density(),
+        nu: section.viscosity() / section.density(),
     });
     if let Some(v) = section.initial_velocity {
         for (u, v) in flow.u.u.iter_mut().zip(v) {
@@ -37,4 +40,52 @@ pub fn flow_from(section: &FluidSection) -> Option<Incompressible> {
         flow.impose_sides();
     }
     Some(flow)
+}
+
+/// The gas of `[fluid]` with model = "euler", each cell taking the last
+/// region that holds its centre (None when the section lacks the box or
+/// the regions, or has a side with a given velocity: the scenario check
+/// refuses those for this model).
+pub fn gas_from(section: &FluidSection) -> Option<Compressible> {
+    let b = section.flow_box?;
+    let regions = section.regions.as_deref()?;
+    let mut sides = [[GasSide::Wall; 2]; 3];
+    for (d, pair) in section.resolved_sides()?.iter().enumerate() {
+        for (s, side) in pair.iter().enumerate() {
+            sides[d][s] = match side {
+                SideSpec::Wall => GasSide::Wall,
+                SideSpec::Outflow => GasSide::Outflow,
+                SideSpec::Periodic => GasSide::Periodic,
+                SideSpec::Velocity(_) => return None,
+            };
+        }
+    }
+    let h = b.spacing();
+    let setup = GasSetup {
+        n: b.cells.map(|n| n as usize),
+        h,
+        sides,
+        gas: Gas {
+            gamma: section.gamma(),
+        },
+        cfl: section.cfl(),
+    };
+    let centre = |c: [usize; 3]| [0, 1, 2].map(|d| b.lower[d] + (c[d] as f64 + 0.5) * h[d]);
+    // Every region's check passed, and the first covers the box.
+    let region = |x| {
+        regions
+            .iter()
+            .rev()
+            .find(|r| r.contains(x))
+            .unwrap_or(&regions[0])
+    };
+    Some(Compressible::new(setup, |c| {
+        let x = centre(c);
+        let r = region(x);
+        Primitive {
+            density: r.density_at(x),
+            velocity: r.velocity,
+            pressure: r.pressure,
+        }
+    }))
 }

@@ -49,27 +49,16 @@ fn a_diverging_run_stops_within_a_window_and_names_time_node_and_quantity() {
         s.structure.as_mut().unwrap().integrator = Integrator::ExplicitEuler;
     });
     let out = dir.join("run");
-    let o = coupler(&[
-        "run",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(1), "a diverged run exits non-zero");
-    let err = String::from_utf8_lossy(&o.stderr);
-    let line = err
-        .lines()
-        .find(|l| l.starts_with("run failed:"))
-        .unwrap_or_else(|| panic!("no failure line in:\n{err}"));
+    let line = run_failed(&path, &out);
     assert!(line.contains("node 2 (`bob`) moves at"), "{line}");
     // The speed bound: 100 × √(2E₀/M), the speed the springs' initial energy
     // E₀ (the first monitors row; no gravity) could give the 1 kg bob.
     let m = Monitors::read(&out);
     let e0 = m.column("potential_energy")[0];
     let bound = 100.0 * (2.0 * e0 / 1.0).sqrt();
-    let stated = number_after(line, "beyond the bound ");
+    let stated = number_after(&line, "beyond the bound ");
     assert!((stated / bound - 1.0).abs() < 1e-3, "{line}: bound {bound}");
-    let t_fail = number_after(line, "diverged at t = ");
+    let t_fail = number_after(&line, "diverged at t = ");
     // What was written stays readable: monitors up to the window before, the
     // bob still under the bound there, and the manifest says why it stopped.
     let times = m.column("time");

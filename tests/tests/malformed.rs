@@ -24,6 +24,15 @@ fn cavity_with(from: &str, to: &str) -> String {
     replace(&text, from, to)
 }
 
+/// The shipped Sod shock tube with `from` replaced by `to` (gas cases).
+fn sod_with(from: &str, to: &str) -> String {
+    replace(
+        &std::fs::read_to_string(scenario_path("sod")).unwrap(),
+        from,
+        to,
+    )
+}
+
 fn replace(text: &str, from: &str, to: &str) -> String {
     assert!(
         text.contains(from),
@@ -496,6 +505,81 @@ const CASES: &[Case] = &[
         line_of: Some("velocity = [0.0, 0.0, 1.0]"),
     },
     Case {
+        name: "gas-velocity-side",
+        edit: |_| {
+            sod_with(
+                "x_high = \"outflow\"",
+                "x_high = { velocity = [1.0, 0.0, 0.0] }",
+            )
+        },
+        key: Some("fluid.sides.x_high"),
+        says: "belongs to model = \"incompressible\"",
+        line_of: Some("x_high = { velocity"),
+    },
+    Case {
+        name: "gas-wave-too-large",
+        edit: |_| {
+            sod_with(
+                "density = 0.125\n",
+                "density = 0.125\ndensity_wave = { amplitude = 0.2, wavenumber = [5.0, 0.0, 0.0] }\n",
+            )
+        },
+        key: Some("fluid.regions[0].density_wave.amplitude"),
+        says: "the density turns negative",
+        line_of: Some("density_wave = "),
+    },
+    Case {
+        name: "gas-first-region-partial",
+        edit: |_| {
+            sod_with(
+                "density = 0.125",
+                "lower = [0.2, 0.0, 0.0]\ndensity = 0.125",
+            )
+        },
+        key: Some("fluid.regions[0].lower"),
+        says: "the first region must cover the whole box",
+        line_of: Some("lower = [0.2"),
+    },
+    Case {
+        name: "gas-region-pressure",
+        edit: |_| sod_with("pressure = 1.0", "pressure = -1.0"),
+        key: Some("fluid.regions[1].pressure"),
+        says: "pressure = -1 must be > 0 Pa",
+        line_of: Some("pressure = -1.0"),
+    },
+    Case {
+        name: "gas-gamma",
+        edit: |_| sod_with("gamma = 1.4", "gamma = 1.0"),
+        key: Some("fluid.gamma"),
+        says: "gamma = 1 must be > 1",
+        line_of: Some("gamma = 1.0"),
+    },
+    Case {
+        name: "gas-cfl",
+        edit: |_| sod_with("gamma = 1.4", "gamma = 1.4\ncfl = 1.5"),
+        key: Some("fluid.cfl"),
+        says: "cfl = 1.5 must lie in (0, 1]",
+        line_of: Some("cfl = 1.5"),
+    },
+    Case {
+        name: "gas-density-key",
+        edit: |_| sod_with("gamma = 1.4", "gamma = 1.4\ndensity = 1.2"),
+        key: Some("fluid.density"),
+        says: "density is not a key of model = \"euler\"",
+        line_of: Some("density = 1.2"),
+    },
+    Case {
+        name: "gas-without-regions",
+        edit: |_| {
+            let t = sod_with("", "");
+            let start = t.find("[[fluid.regions]]").unwrap();
+            t[..start].to_string()
+        },
+        key: Some("fluid.model"),
+        says: "needs the key `regions`",
+        line_of: Some("model = \"euler\""),
+    },
+    Case {
         name: "missing-mesh",
         edit: |t| {
             replace(
@@ -627,6 +711,8 @@ fn the_shipped_scenarios_pass_check() {
         "ball-cloth",
         "cavity",
         "c9-tunnel",
+        "sod",
+        "shu-osher",
     ] {
         let out = coupler(&["check", scenario_path(name).to_str().unwrap()]);
         assert!(

@@ -3,10 +3,13 @@
 //!   eqs. (6)–(10) in a uniform stream, whose keys [`PorousLoad`] also gives
 //!   to `[structure.porous]`;
 //! - `incompressible`: the Navier–Stokes solver of seed 000 §3.2.2 on a box
-//!   of cells (`flow.rs`: `[fluid.box]`, `[fluid.sides]`).
+//!   of cells (`flow.rs`: `[fluid.box]`, `[fluid.sides]`);
+//! - `euler`: the compressible Euler solver of seed 000 §3.2.1 on the same
+//!   box (`gas.rs`: `gamma`, `cfl`, `[[fluid.regions]]`).
 
 use super::check::Checker;
 use super::flow::{FlowBox, FlowSides};
+use super::gas::{self, GasRegion, AIR_GAMMA, DEFAULT_CFL};
 use serde::{Deserialize, Serialize};
 
 /// Density of air at sea level, ISA (ISO 2533:1975) [kg/m³].
@@ -21,6 +24,32 @@ fn air_viscosity() -> f64 {
     AIR_VISCOSITY
 }
 
+/// Which keys of `[fluid]` each model takes, and which of those it needs.
+const MODEL_KEYS: [(FluidModel, &[&str], &[&str]); 3] = [
+    (
+        FluidModel::PorousFreeStream,
+        &[
+            "density",
+            "viscosity",
+            "free_stream",
+            "porosity",
+            "diameter",
+            "thickness",
+        ],
+        &["free_stream", "porosity", "diameter", "thickness"],
+    ),
+    (
+        FluidModel::Incompressible,
+        &["density", "viscosity", "box", "sides", "initial_velocity"],
+        &["box"],
+    ),
+    (
+        FluidModel::Euler,
+        &["box", "sides", "gamma", "cfl", "regions"],
+        &["box", "regions"],
+    ),
+];
+
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum FluidModel {
@@ -29,6 +58,8 @@ pub enum FluidModel {
     PorousFreeStream,
     /// Incompressible Navier–Stokes on a box of cells (seed 000 §3.2.2).
     Incompressible,
+    /// Compressible Euler equations of an ideal gas (seed 000 §3.2.1).
+    Euler,
 }
 
 impl FluidModel {
@@ -36,6 +67,7 @@ impl FluidModel {
         match self {
             FluidModel::PorousFreeStream => "porous-free-stream",
             FluidModel::Incompressible => "incompressible",
+            FluidModel::Euler => "euler",
         }
     }
 }
@@ -50,12 +82,14 @@ impl FluidModel {
 pub struct FluidSection {
     #[serde(default)]
     pub model: FluidModel,
-    /// Density ρ [kg/m³].
-    #[serde(default = "air_density")]
-    pub density: f64,
-    /// Dynamic viscosity μ [Pa·s].
-    #[serde(default = "air_viscosity")]
-    pub viscosity: f64,
+    /// Density ρ [kg/m³] (porous-free-stream, incompressible); ISA air at
+    /// sea level when left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+    /// Dynamic viscosity μ [Pa·s] (porous-free-stream, incompressible);
+    /// ISA air when left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub viscosity: Option<f64>,
     /// Free-stream velocity of the air [m/s] (porous-free-stream).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub free_stream: Option<[f64; 3]>,
@@ -78,6 +112,15 @@ pub struct FluidSection {
     /// Velocity of the fluid at the start [m/s] (incompressible).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial_velocity: Option<[f64; 3]>,
+    /// Ratio of specific heats γ (euler); air's 1.4 when left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gamma: Option<f64>,
+    /// Courant number of a step at the fastest wave (euler); 0.6 when left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cfl: Option<f64>,
+    /// The gas at the start, region by region (euler).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub regions: Option<Vec<GasRegion>>,
 }
 
 impl FluidSection {
@@ -87,12 +130,32 @@ impl FluidSection {
     pub fn porous_load(&self) -> Option<PorousLoad> {
         Some(PorousLoad {
             free_stream: self.free_stream?,
-            density: self.density,
-            viscosity: self.viscosity,
+            density: self.density(),
+            viscosity: self.viscosity(),
             porosity: self.porosity?,
             diameter: self.diameter?,
             thickness: self.thickness?,
         })
+    }
+
+    /// Density ρ [kg/m³] of the porous and incompressible models.
+    pub fn density(&self) -> f64 {
+        self.density.unwrap_or(AIR_DENSITY)
+    }
+
+    /// Dynamic viscosity μ [Pa·s] of the porous and incompressible models.
+    pub fn viscosity(&self) -> f64 {
+        self.viscosity.unwrap_or(AIR_VISCOSITY)
+    }
+
+    /// Ratio of specific heats γ of the euler model.
+    pub fn gamma(&self) -> f64 {
+        self.gamma.unwrap_or(AIR_GAMMA)
+    }
+
+    /// Courant number of an euler step.
+    pub fn cfl(&self) -> f64 {
+        self.cfl.unwrap_or(DEFAULT_CFL)
     }
 
     /// Every side of the flow box, defaults filled in.
@@ -101,10 +164,13 @@ impl FluidSection {
         Some(self.sides.unwrap_or_default().resolved(b.cells))
     }
 
-    /// The Courant number Σ_a|u_a|·Δt/h_a a flow step of `dt` starts with,
-    /// at the fastest of the side and initial velocities (None for a model
-    /// with no cells).
+    /// The Courant number Σ_a|u_a|·Δt/h_a an incompressible flow step of
+    /// `dt` starts with, at the fastest of the side and initial velocities
+    /// (None for another model: the euler model chooses its own steps).
     pub fn start_courant(&self, dt: f64) -> Option<f64> {
+        if self.model != FluidModel::Incompressible {
+            return None;
+        }
         let h = self.flow_box?.spacing();
         let sides = self.resolved_sides()?;
         let courant = |v: [f64; 3]| (0..3).map(|a| v[a].abs() * dt / h[a]).sum::<f64>();
@@ -119,25 +185,31 @@ impl FluidSection {
     pub fn check(&self, c: &mut Checker) {
         c.within("fluid", None, |c| {
             let model = self.model.name();
-            let porous_keys = [
+            let given = [
+                ("density", self.density.is_some()),
+                ("viscosity", self.viscosity.is_some()),
                 ("free_stream", self.free_stream.is_some()),
                 ("porosity", self.porosity.is_some()),
                 ("diameter", self.diameter.is_some()),
                 ("thickness", self.thickness.is_some()),
-            ];
-            let flow_keys = [
                 ("box", self.flow_box.is_some()),
                 ("sides", self.sides.is_some()),
                 ("initial_velocity", self.initial_velocity.is_some()),
+                ("gamma", self.gamma.is_some()),
+                ("cfl", self.cfl.is_some()),
+                ("regions", self.regions.is_some()),
             ];
-            let (needed, foreign): (&[(&str, bool)], &[(&str, bool)]) = match self.model {
-                FluidModel::PorousFreeStream => (&porous_keys, &flow_keys),
-                FluidModel::Incompressible => (&flow_keys[..1], &porous_keys),
-            };
-            if let Some((key, _)) = foreign.iter().find(|(_, given)| *given) {
+            let (_, takes, needs) = MODEL_KEYS
+                .iter()
+                .find(|(m, _, _)| *m == self.model)
+                .expect("every model has its keys");
+            if let Some((key, _)) = given.iter().find(|(k, g)| *g && !takes.contains(k)) {
                 c.problem(&[key], format!("{key} is not a key of model = \"{model}\""));
             }
-            if let Some((key, _)) = needed.iter().find(|(_, given)| !*given) {
+            if let Some(key) = needs
+                .iter()
+                .find(|k| given.iter().any(|(g, on)| g == *k && !on))
+            {
                 c.problem(
                     &["model"],
                     format!("model = \"{model}\" needs the key `{key}` in [fluid]"),
@@ -146,8 +218,18 @@ impl FluidSection {
             if let Some(load) = self.porous_load() {
                 load.check(c);
             }
-            c.positive(&["density"], self.density, "kg/m³");
-            c.positive(&["viscosity"], self.viscosity, "Pa·s");
+            c.positive(&["density"], self.density(), "kg/m³");
+            c.positive(&["viscosity"], self.viscosity(), "Pa·s");
+            if self.model == FluidModel::Euler {
+                gas::check(
+                    c,
+                    self.regions.as_deref(),
+                    self.flow_box.as_ref(),
+                    self.resolved_sides(),
+                    self.gamma(),
+                    self.cfl(),
+                );
+            }
             if let Some(b) = &self.flow_box {
                 b.check(c);
                 self.sides.unwrap_or_default().check(c, b);

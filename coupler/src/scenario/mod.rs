@@ -6,6 +6,7 @@ pub mod collision;
 mod error;
 pub mod flow;
 pub mod fluid;
+pub mod gas;
 pub mod integrator;
 pub mod mesh;
 pub mod parachute;
@@ -295,13 +296,15 @@ impl Scenario {
             s.check(c);
             let partners =
                 self.participants.structure.is_some() || self.participants.rigid.is_some();
-            if s.model == fluid::FluidModel::Incompressible && partners {
+            if s.model != fluid::FluidModel::PorousFreeStream && partners {
                 c.problem(
                     &["fluid", "model"],
-                    "model = \"incompressible\" runs the flow alone for now: a canopy or bodies \
-                     in the flow are not coupled to it yet, so use model = \"porous-free-stream\" \
-                     for a scene with a structure or rigid bodies"
-                        .into(),
+                    format!(
+                        "model = \"{}\" runs the flow alone for now: a canopy or bodies in the \
+                         flow are not coupled to it yet, so use model = \"porous-free-stream\" \
+                         for a scene with a structure or rigid bodies",
+                        s.model.name()
+                    ),
                 );
             }
             let courant = s.start_courant(k.window).unwrap_or(0.0);
