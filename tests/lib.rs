@@ -37,6 +37,50 @@ pub fn ensure_built() {
     });
 }
 
+/// fluid-proc built with its `mpi` feature, in a target directory of its
+/// own (the default build has no MPI), or None when this machine has no
+/// `mpirun`. CI sets `CANOPY_REQUIRE_MPI` (its script installs OpenMPI), and
+/// then a machine without MPI fails instead of skipping.
+pub fn mpi_fluid_proc() -> Option<PathBuf> {
+    let has_mpirun = std::process::Command::new("mpirun")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_mpirun {
+        assert!(
+            std::env::var_os("CANOPY_REQUIRE_MPI").is_none(),
+            "CANOPY_REQUIRE_MPI is set but mpirun cannot be run"
+        );
+        eprintln!("no mpirun on this machine: the MPI runs are skipped");
+        return None;
+    }
+    static BUILD: Once = Once::new();
+    let target = target_dir().join("mpi");
+    BUILD.call_once(|| {
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let out = std::process::Command::new(cargo)
+            .current_dir(workspace())
+            .args([
+                "build",
+                "--release",
+                "-p",
+                "fluid-proc",
+                "--features",
+                "mpi",
+            ])
+            .arg("--target-dir")
+            .arg(&target)
+            .output()
+            .expect("run cargo build");
+        assert!(
+            out.status.success(),
+            "cargo build --features mpi failed:\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    });
+    Some(target.join("release").join("fluid-proc"))
+}
+
 pub fn coupler_exe() -> PathBuf {
     ensure_built();
     target_dir().join("release").join("coupler")

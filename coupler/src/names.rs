@@ -10,6 +10,9 @@ pub const PREFIX: &str = "canopy";
 pub const ENV_RUN_ID: &str = "CANOPY_RUN_ID";
 /// Environment variable naming the role a launched participant plays.
 pub const ENV_ROLE: &str = "CANOPY_ROLE";
+/// Environment variable giving the number of MPI ranks a participant was
+/// started on under `mpirun` (absent: one, no MPI).
+pub const ENV_RANKS: &str = "CANOPY_RANKS";
 
 /// Commands from the coupler to one participant (bincode bytes).
 pub fn command(run: &str, role: Role) -> String {

@@ -13,12 +13,17 @@
 //!
 //! Cells live with three ghost layers on every axis more than one cell
 //! thick (`padded.rs`'s [`Layout`]); an axis one cell thick carries no
-//! flux, which makes a 1-D tube or a 2-D flow.
+//! flux, which makes a 1-D tube or a 2-D flow. On several ranks each holds
+//! a slab of the box (`comm.rs`), and the ghosts at a side it shares with
+//! another rank are that rank's cells: the same values one rank alone
+//! reads, so the fields do not depend on the number of ranks.
 
 use crate::characteristic::{line_fluxes, REACH};
+use crate::comm::{Comm, Single, Slab};
 use crate::gas::{Gas, Primitive, State};
 use crate::padded::{Layout, GHOSTS};
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// What a side of the box does to the gas.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,10 +75,15 @@ pub struct AdvanceReport {
     pub min_dt: f64,
 }
 
-/// The gas on its cells, at `time`.
+/// The gas on its cells (this rank's slab of them), at `time`.
 #[derive(Debug, Clone)]
 pub struct Compressible {
+    /// The whole box.
     pub setup: GasSetup,
+    comm: Arc<dyn Comm>,
+    slab: Slab,
+    /// This rank's cells per axis.
+    n: [usize; 3],
     lay: Layout,
     /// Conserved states with ghosts, at `lay`.
     u: Vec<State>,
@@ -84,17 +94,38 @@ pub struct Compressible {
 }
 
 impl Compressible {
-    /// The gas with `initial(cell)` in every cell.
+    /// The gas with `initial(cell)` in every cell, on one rank.
     pub fn new(setup: GasSetup, initial: impl Fn([usize; 3]) -> Primitive) -> Compressible {
-        let lay = Layout::cells(setup.n);
+        Compressible::on(setup, Arc::new(Single), initial)
+    }
+
+    /// This rank's slab of the gas with `initial(cell)` in every cell (`cell`
+    /// counted in the whole box). Each slab needs at least [`GHOSTS`] cells,
+    /// so that its halo comes from its two neighbours alone.
+    pub fn on(
+        setup: GasSetup,
+        comm: Arc<dyn Comm>,
+        initial: impl Fn([usize; 3]) -> Primitive,
+    ) -> Compressible {
+        let slab = Slab::of(setup.n, comm.ranks(), comm.rank());
+        let n = slab.cells();
+        assert!(
+            comm.ranks() == 1 || n[slab.axis] >= GHOSTS,
+            "a slab of {} cells is thinner than the halo",
+            n[slab.axis]
+        );
+        let lay = Layout::cells(n);
         let dims = lay.dims();
         let mut u = vec![[0.0; 5]; dims.iter().product()];
-        for_cells(setup.n, |c, _| {
-            u[lay.at(c.map(|x| x as isize))] = setup.gas.conserved(initial(c))
+        for_cells(n, |c, _| {
+            u[lay.at(c.map(|x| x as isize))] = setup.gas.conserved(initial(slab.global(c)))
         });
-        let cells = setup.n.iter().product();
+        let cells = n.iter().product();
         Compressible {
             setup,
+            comm,
+            slab,
+            n,
             lay,
             start: u.clone(),
             u,
@@ -103,19 +134,58 @@ impl Compressible {
         }
     }
 
-    /// The conserved state of every cell, x fastest.
+    /// The conserved state of every cell of this rank, x fastest.
     pub fn cells(&self) -> Vec<State> {
         let mut out = Vec::with_capacity(self.rhs.len());
-        for_cells(self.setup.n, |c, _| out.push(self.u[self.at(c)]));
+        for_cells(self.n, |c, _| out.push(self.u[self.at(c)]));
         out
     }
 
+    /// The primitive state of every cell of this rank, x fastest.
     pub fn primitives(&self) -> Vec<Primitive> {
         let gas = self.setup.gas;
         self.cells().iter().map(|s| gas.primitive(s)).collect()
     }
 
-    /// Σ U·V over the cells: mass [kg], momentum [kg·m/s] and energy [J].
+    /// The primitive state of every cell of the box, x fastest, on rank 0
+    /// (None on the others). Every rank must call it.
+    pub fn gathered_primitives(&self) -> Option<Vec<Primitive>> {
+        let local: Vec<f64> = self
+            .primitives()
+            .iter()
+            .flat_map(|w| {
+                [
+                    w.density,
+                    w.velocity[0],
+                    w.velocity[1],
+                    w.velocity[2],
+                    w.pressure,
+                ]
+            })
+            .collect();
+        let parts = self.comm.gather(&local)?;
+        let n = self.setup.n;
+        let mut all = vec![[0.0; 5]; n.iter().product()];
+        for (rank, part) in parts.iter().enumerate() {
+            let slab = Slab::of(n, parts.len(), rank);
+            for_cells(slab.cells(), |c, i| {
+                let [x, y, z] = slab.global(c);
+                all[x + n[0] * (y + n[1] * z)].copy_from_slice(&part[5 * i..5 * i + 5]);
+            });
+        }
+        Some(
+            all.iter()
+                .map(|v| Primitive {
+                    density: v[0],
+                    velocity: [v[1], v[2], v[3]],
+                    pressure: v[4],
+                })
+                .collect(),
+        )
+    }
+
+    /// Σ U·V over the box's cells: mass [kg], momentum [kg·m/s] and energy
+    /// [J], on every rank.
     pub fn totals(&self) -> State {
         let volume: f64 = self.setup.h.iter().product();
         let mut sum = [0.0; 5];
@@ -124,10 +194,23 @@ impl Compressible {
                 *t += v * volume;
             }
         }
+        self.comm.sum(&mut sum);
         sum
     }
 
-    /// The longest stable step: CFL / max over cells of Σ_d (|u_d| + c)/h_d.
+    /// The lowest density and pressure over the box, on every rank.
+    pub fn lowest(&self) -> [f64; 2] {
+        let gas = self.setup.gas;
+        let mut low = [f64::INFINITY; 2];
+        for s in self.cells() {
+            low[0] = low[0].min(s[0]);
+            low[1] = low[1].min(gas.pressure(&s));
+        }
+        low.map(|x| self.comm.min(x))
+    }
+
+    /// The longest stable step: CFL / max over the box's cells of
+    /// Σ_d (|u_d| + c)/h_d, on every rank.
     pub fn stable_dt(&self) -> f64 {
         let s = &self.setup;
         let active: Vec<usize> = (0..3).filter(|&d| s.n[d] > 1).collect();
@@ -142,11 +225,12 @@ impl Compressible {
                     .sum::<f64>()
             })
             .fold(0.0, f64::max);
-        if rate > 0.0 {
+        let dt = if rate > 0.0 {
             s.cfl / rate
         } else {
             f64::INFINITY
-        }
+        };
+        self.comm.min(dt)
     }
 
     /// Advances by `duration` [s] in stable steps, the last one shortened
@@ -178,7 +262,7 @@ impl Compressible {
         for (a, b) in [(0.0, 1.0), (0.75, 0.25), (1.0 / 3.0, 2.0 / 3.0)] {
             self.fill_ghosts();
             self.right_hand_side();
-            let (lay, n) = (self.lay, self.setup.n);
+            let (lay, n) = (self.lay, self.n);
             for_cells(n, |c, i| {
                 let p = lay.at(c.map(|x| x as isize));
                 for v in 0..5 {
@@ -195,28 +279,44 @@ impl Compressible {
         self.lay.at(c.map(|x| x as isize))
     }
 
-    /// Every cell must keep a positive, finite density and pressure.
+    /// Every cell must keep a positive, finite density and pressure. The
+    /// first bad cell of the box is reported, the same on every rank.
     fn check(&self) -> Result<(), GasError> {
         let gas = self.setup.gas;
+        let n = self.setup.n;
         let mut bad = None;
-        for_cells(self.setup.n, |c, _| {
+        for_cells(self.n, |c, _| {
             let s = &self.u[self.at(c)];
             let p = gas.pressure(s);
             let ok = s[0] > 0.0 && p > 0.0 && s.iter().all(|v| v.is_finite());
             if !ok && bad.is_none() {
-                bad = Some(GasError::Unphysical {
-                    time: self.time,
-                    cell: c,
-                    density: s[0],
-                    pressure: p,
-                });
+                let [x, y, z] = self.slab.global(c);
+                bad = Some(((x + n[0] * (y + n[1] * z)) as f64, [s[0], p]));
             }
         });
-        bad.map_or(Ok(()), Err)
+        // The lowest bad cell over the ranks, then its values from its owner.
+        let first = self.comm.min(bad.map_or(f64::INFINITY, |b| b.0));
+        if first.is_infinite() {
+            return Ok(());
+        }
+        let mut values = match bad {
+            Some((i, v)) if i == first => v,
+            _ => [0.0; 2],
+        };
+        self.comm.sum(&mut values);
+        let i = first as usize;
+        Err(GasError::Unphysical {
+            time: self.time,
+            cell: [i % n[0], (i / n[0]) % n[1], i / (n[0] * n[1])],
+            density: values[0],
+            pressure: values[1],
+        })
     }
 
     /// The ghosts of every axis more than one cell thick, axis by axis over
-    /// the whole range of the others (edges and corners too).
+    /// the whole range of the others (edges and corners too): from the
+    /// sides' conditions, or from the neighbouring rank at a side shared
+    /// with it.
     fn fill_ghosts(&mut self) {
         let lay = self.lay;
         let g = GHOSTS as isize;
@@ -226,9 +326,13 @@ impl Compressible {
             }
             let (s, m) = (lay.stride[a] as isize, lay.m[a] as isize);
             let sides = self.setup.sides[a];
+            let shared = self.shared_sides(a);
             let u = &mut self.u;
             lay.for_each_line(a, |base| {
                 let ix = |k: isize| (base as isize + k * s) as usize;
+                if shared == [true; 2] {
+                    return;
+                }
                 if sides == [GasSide::Periodic; 2] {
                     for k in 1..=g {
                         u[ix(-k)] = u[ix(m - k)];
@@ -237,6 +341,9 @@ impl Compressible {
                     return;
                 }
                 for (side, up) in [(sides[0], false), (sides[1], true)] {
+                    if shared[up as usize] {
+                        continue;
+                    }
                     let (edge, dir) = if up { (m - 1, 1) } else { (0, -1) };
                     for k in 1..=g {
                         let ghost = match side {
@@ -254,6 +361,80 @@ impl Compressible {
                     }
                 }
             });
+            if shared != [false; 2] {
+                self.exchange_halo(a, shared);
+            }
+        }
+    }
+
+    /// Whether this rank's low and high sides along `a` face another rank.
+    fn shared_sides(&self, a: usize) -> [bool; 2] {
+        let ranks = self.comm.ranks();
+        if ranks == 1 || a != self.slab.axis {
+            return [false; 2];
+        }
+        let periodic = self.setup.sides[a] == [GasSide::Periodic; 2];
+        [
+            periodic || self.slab.lo > 0,
+            periodic || self.slab.hi < self.setup.n[a],
+        ]
+    }
+
+    /// The ghost layers along `a` from the neighbouring ranks: this rank's
+    /// last GHOSTS planes go up as the next rank's low ghosts, its first
+    /// ones down as the previous rank's high ghosts (wrapping round on a
+    /// periodic axis). Planes span the whole padded range of the other axes.
+    fn exchange_halo(&mut self, a: usize, shared: [bool; 2]) {
+        let (rank, ranks) = (self.comm.rank(), self.comm.ranks());
+        let below = (rank + ranks - 1) % ranks;
+        let above = (rank + 1) % ranks;
+        let m = self.lay.m[a] as isize;
+        let g = GHOSTS as isize;
+        let planes = |k0: isize| self.planes(a, k0..k0 + g);
+        let (top, bottom) = (planes(m - g), planes(0));
+        let mut from_below = vec![0.0; top.len()];
+        let mut from_above = vec![0.0; bottom.len()];
+        let (down, up) = (shared[0], shared[1]);
+        self.comm.shift(
+            up.then_some((above, &top[..])),
+            down.then_some((below, &mut from_below[..])),
+            0,
+        );
+        self.comm.shift(
+            down.then_some((below, &bottom[..])),
+            up.then_some((above, &mut from_above[..])),
+            1,
+        );
+        if down {
+            self.set_planes(a, -g..0, &from_below);
+        }
+        if up {
+            self.set_planes(a, m..m + g, &from_above);
+        }
+    }
+
+    /// The states of the planes `k` along `a`, flattened.
+    fn planes(&self, a: usize, k: std::ops::Range<isize>) -> Vec<f64> {
+        let mut out = Vec::new();
+        self.for_plane_cells(a, k, |p| out.extend_from_slice(&self.u[p]));
+        out
+    }
+
+    fn set_planes(&mut self, a: usize, k: std::ops::Range<isize>, values: &[f64]) {
+        let mut at = Vec::new();
+        self.for_plane_cells(a, k, |p| at.push(p));
+        for (p, v) in at.into_iter().zip(values.chunks_exact(5)) {
+            self.u[p].copy_from_slice(v);
+        }
+    }
+
+    /// Calls `f` with the index of every cell of planes `k` along `a`, over
+    /// the whole padded range of the other axes, in one fixed order.
+    fn for_plane_cells(&self, a: usize, k: std::ops::Range<isize>, mut f: impl FnMut(usize)) {
+        let lay = self.lay;
+        let s = lay.stride[a] as isize;
+        for kk in k {
+            lay.for_each_line(a, |base| f((base as isize + kk * s) as usize));
         }
     }
 
@@ -262,7 +443,7 @@ impl Compressible {
     fn right_hand_side(&mut self) {
         self.rhs.iter_mut().for_each(|r| *r = [0.0; 5]);
         let (lay, setup) = (self.lay, self.setup);
-        let n = setup.n;
+        let n = self.n;
         for d in (0..3).filter(|&d| n[d] > 1) {
             let (b, e) = ((d + 1) % 3, (d + 2) % 3);
             let lines: Vec<[usize; 2]> = (0..n[e])

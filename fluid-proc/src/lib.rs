@@ -18,17 +18,22 @@
 //!   fields (`gas.rs`), the characteristic WENO5 flux along a line
 //!   (`characteristic.rs`), and the exact Riemann solution it is checked
 //!   against (`riemann.rs`).
+//! - The ranks a solver's box is split among (`comm.rs`; on MPI with the
+//!   `mpi` feature, `mpi_comm.rs`).
 //!
 //! The physics never touches IPC.
 
 pub mod advection;
 pub mod characteristic;
+pub mod comm;
 pub mod compressible;
 pub mod gas;
 pub mod grid;
 pub mod incompressible;
 pub mod laplacian;
 pub mod mac;
+#[cfg(feature = "mpi")]
+pub mod mpi_comm;
 pub mod multigrid;
 pub mod padded;
 pub mod poisson;

@@ -4,15 +4,22 @@ use coupler::scenario::fluid::FluidModel;
 use coupler::scenario::FluidSection;
 use coupler::vtu::{Image, Series};
 use coupler::{Command, Field, Monitor, Participant, Role};
-use fluid_proc::compressible::{AdvanceReport, Compressible};
+use fluid_proc::comm::Single;
 use fluid_proc::incompressible::{Incompressible, StepReport};
-use fluid_proc::setup::{flow_from, gas_from};
+use fluid_proc::setup::flow_from;
 use fluid_proc::{triangles_from_field, Porous};
+
+mod gas_run;
 
 type Error = Box<dyn std::error::Error>;
 
 fn main() {
-    if let Err(e) = run() {
+    let ranks = std::env::var(coupler::names::ENV_RANKS)
+        .ok()
+        .and_then(|r| r.parse::<usize>().ok())
+        .unwrap_or(1);
+    let result = if ranks > 1 { gas_run::ranks() } else { run() };
+    if let Err(e) = result {
         eprintln!("fluid-proc: {e}");
         std::process::exit(1);
     }
@@ -28,7 +35,9 @@ fn run() -> Result<(), Error> {
     let steps = match section.model {
         FluidModel::PorousFreeStream => run_porous(&mut p, &section)?,
         FluidModel::Incompressible => run_incompressible(&mut p, &section)?,
-        FluidModel::Euler => run_euler(&mut p, &section)?,
+        FluidModel::Euler => {
+            gas_run::lead(&mut p, &section, std::sync::Arc::new(Single)).map_err(|s| s.error)?
+        }
     };
     p.finish(steps)?;
     Ok(())
@@ -154,79 +163,6 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
         }
     }
     Ok(steps)
-}
-
-/// The compressible Euler model on its box of cells: as many stable steps
-/// per window as the fastest wave allows (`cfl`), the gas written as
-/// `fluid.pvd`.
-fn run_euler(p: &mut Participant, section: &FluidSection) -> Result<u64, Error> {
-    let mut gas =
-        gas_from(section).ok_or("[fluid] lacks the box or the regions of the euler model")?;
-    let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
-    let mut series = Series::new(p.run_dir(), "fluid");
-    let mut steps = 0u64;
-    loop {
-        match p.next_command()? {
-            Command::Initialize => p.done(gas_monitors(&gas, AdvanceReport::default()))?,
-            Command::Output { index, time } => {
-                let cells = gas.primitives();
-                let density: Vec<f64> = cells.iter().map(|w| w.density).collect();
-                let velocity: Vec<f64> = cells.iter().flat_map(|w| w.velocity).collect();
-                let pressure: Vec<f64> = cells.iter().map(|w| w.pressure).collect();
-                series.write_image(
-                    index,
-                    time,
-                    &Image {
-                        origin,
-                        spacing: gas.setup.h,
-                        cells: gas.setup.n,
-                        cell_data: vec![
-                            ("density", 1, &density),
-                            ("velocity", 3, &velocity),
-                            ("pressure", 1, &pressure),
-                        ],
-                    },
-                )?;
-                p.done(Vec::new())?
-            }
-            Command::Advance(a) => match gas.advance(a.dt) {
-                Ok(report) => {
-                    steps += report.steps;
-                    let m = if a.window_end {
-                        gas_monitors(&gas, report)
-                    } else {
-                        Vec::new()
-                    };
-                    p.done(m)?;
-                }
-                Err(e) => {
-                    let msg = format!("gas step: {e}");
-                    p.fail(msg.clone())?;
-                    return Err(msg.into());
-                }
-            },
-            Command::Stop => break,
-            Command::Setup(_) => return Err("unexpected second setup".into()),
-        }
-    }
-    Ok(steps)
-}
-
-/// Mass and energy (conserved but for what crosses the sides), the lowest
-/// density and pressure (what fails first), and the steps of the last call.
-fn gas_monitors(gas: &Compressible, r: AdvanceReport) -> Vec<Monitor> {
-    let totals = gas.totals();
-    let cells = gas.primitives();
-    let lowest = |f: fn(&fluid_proc::gas::Primitive) -> f64| {
-        cells.iter().map(f).fold(f64::INFINITY, f64::min)
-    };
-    vec![
-        Monitor::new("mass", totals[0]),
-        Monitor::new("energy", totals[4]),
-        Monitor::new("min_density", lowest(|w| w.density)),
-        Monitor::new("min_pressure", lowest(|w| w.pressure)),
-        Monitor::new("steps", r.steps as f64),
-    ]
 }
 
 fn flow_monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> Vec<Monitor> {

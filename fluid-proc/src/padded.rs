@@ -154,9 +154,9 @@ impl Padded {
     /// come out right too.
     pub fn fill_ghosts(&mut self, sides: &Sides) {
         let lay = self.lay;
-        for a in 0..3 {
+        for (a, &pair) in sides.iter().enumerate() {
             if lay.g[a] > 0 {
-                lay.for_each_line(a, |base| self.fill_line(base, a, sides[a]));
+                lay.for_each_line(a, |base| self.fill_line(base, a, pair));
             }
         }
     }

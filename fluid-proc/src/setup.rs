@@ -1,6 +1,7 @@
 //! The flow a scenario's `[fluid]` section describes: the incompressible
 //! flow or the compressible gas, at their initial state.
 
+use crate::comm::{Comm, Single};
 use crate::compressible::{Compressible, GasSetup, GasSide};
 use crate::gas::{Gas, Primitive};
 use crate::grid::Grid;
@@ -8,6 +9,7 @@ use crate::incompressible::{FlowSetup, Incompressible};
 use crate::side::{bcs, Side};
 use coupler::scenario::flow::SideSpec;
 use coupler::scenario::FluidSection;
+use std::sync::Arc;
 
 /// The flow of `[fluid]` with model = "incompressible", at its initial
 /// velocity (None when the section has no box, which the scenario check
@@ -47,6 +49,11 @@ pub fn flow_from(section: &FluidSection) -> Option<Incompressible> {
 /// the regions, or has a side with a given velocity: the scenario check
 /// refuses those for this model).
 pub fn gas_from(section: &FluidSection) -> Option<Compressible> {
+    gas_on(section, Arc::new(Single))
+}
+
+/// [`gas_from`], this rank's slab of it.
+pub fn gas_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Compressible> {
     let b = section.flow_box?;
     let regions = section.regions.as_deref()?;
     let mut sides = [[GasSide::Wall; 2]; 3];
@@ -79,7 +86,7 @@ pub fn gas_from(section: &FluidSection) -> Option<Compressible> {
             .find(|r| r.contains(x))
             .unwrap_or(&regions[0])
     };
-    Some(Compressible::new(setup, |c| {
+    Some(Compressible::on(setup, comm, |c| {
         let x = centre(c);
         let r = region(x);
         Primitive {

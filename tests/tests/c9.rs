@@ -141,6 +141,7 @@ fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
         s.participants.rigid = Some(ParticipantSpec {
             program: "rigid-proc".into(),
             args: Vec::new(),
+            ranks: None,
         });
         let gravity = s.structure.as_ref().unwrap().gravity;
         // The body starts where the generator puts the mass point.

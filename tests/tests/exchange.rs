@@ -283,6 +283,7 @@ fn three_participants_exchange_every_field_each_sub_step() {
         s.participants.rigid = Some(ParticipantSpec {
             program: "rigid-proc".into(),
             args: vec![],
+            ranks: None,
         });
         s.structure.as_mut().unwrap().strings.push(StringSpec {
             anchor: [0.0, 0.0, -1.0],

@@ -580,6 +580,55 @@ const CASES: &[Case] = &[
         line_of: Some("model = \"euler\""),
     },
     Case {
+        name: "ranks-on-structure",
+        edit: |t| {
+            replace(
+                t,
+                "program = \"structure-proc\"",
+                "program = \"structure-proc\"\nranks = 2",
+            )
+        },
+        key: Some("participants.structure.ranks"),
+        says: "ranks is for the fluid participant only",
+        line_of: Some("ranks = 2"),
+    },
+    Case {
+        name: "ranks-zero",
+        edit: |_| {
+            sod_with(
+                "program = \"fluid-proc\"",
+                "program = \"fluid-proc\"\nranks = 0",
+            )
+        },
+        key: Some("participants.fluid.ranks"),
+        says: "ranks must be at least 1",
+        line_of: Some("ranks = 0"),
+    },
+    Case {
+        name: "ranks-incompressible",
+        edit: |_| {
+            cavity_with(
+                "program = \"fluid-proc\"",
+                "program = \"fluid-proc\"\nranks = 2",
+            )
+        },
+        key: Some("participants.fluid.ranks"),
+        says: "only model = \"euler\" is split among ranks",
+        line_of: Some("ranks = 2"),
+    },
+    Case {
+        name: "ranks-thinner-than-halo",
+        edit: |_| {
+            sod_with(
+                "program = \"fluid-proc\"",
+                "program = \"fluid-proc\"\nranks = 200",
+            )
+        },
+        key: Some("participants.fluid.ranks"),
+        says: "leaves fewer than 3 cells per rank along x (400 cells)",
+        line_of: Some("ranks = 200"),
+    },
+    Case {
         name: "missing-mesh",
         edit: |t| {
             replace(

@@ -30,6 +30,8 @@ pub struct Checked {
     pub path: PathBuf,
     pub scenario: Scenario,
     pub programs: Vec<(Role, Program)>,
+    /// `mpirun`, when a participant runs on several ranks.
+    pub mpirun: Option<PathBuf>,
 }
 
 /// Load the scenario and find its programs; every problem is one message with file, line and key.
@@ -63,10 +65,32 @@ pub fn load_checked(path: &Path) -> Result<Checked, ScenarioError> {
             }
         }
     }
+    let mut mpirun = None;
+    for role in scenario.participants.roles() {
+        let ranks = scenario.participants.get(role).map_or(1, |s| s.ranks());
+        if ranks > 1 && mpirun.is_none() {
+            match programs::resolve("mpirun", &dir) {
+                Some(Program::Found(p)) => mpirun = Some(p),
+                _ => {
+                    return Err(ScenarioError::at_key(
+                        path,
+                        &text,
+                        &["participants", role.name(), "ranks"],
+                        format!(
+                            "ranks = {ranks} starts `{}` under mpirun, which is not on PATH \
+                             (Debian: apt-get install openmpi-bin)",
+                            role.name()
+                        ),
+                    ))
+                }
+            }
+        }
+    }
     Ok(Checked {
         path: path.to_path_buf(),
         scenario,
         programs,
+        mpirun,
     })
 }
 
@@ -96,6 +120,10 @@ pub fn check(path: &Path) -> i32 {
         c.impulse_substeps
     );
     for (role, program) in &checked.programs {
+        let ranks = s.participants.get(*role).map_or(1, |p| p.ranks());
+        if ranks > 1 {
+            println!("  {:<9} on {ranks} ranks, under mpirun", role.name());
+        }
         match program {
             Program::Found(p) => println!("  {:<9} {}", role.name(), p.display()),
             Program::Buildable { package, .. } => {

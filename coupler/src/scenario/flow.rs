@@ -18,6 +18,11 @@ pub const MAX_COURANT: f64 = 0.5;
 /// Fewest cells along an axis that is not one cell thick.
 pub const MIN_CELLS: u32 = 4;
 
+/// Fewest cells a rank's slab may have along the axis the box is split
+/// along: the three cells a WENO5 stencil reaches past a face, so that a
+/// halo comes from the two neighbouring ranks alone.
+pub const HALO_CELLS: u32 = 3;
+
 /// `[fluid.box]`: a uniform grid of cells over an axis-aligned box.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -31,6 +31,8 @@ pub const MAX_WINDOWS: f64 = 1e9;
 pub const MAX_SUBSTEPS: f64 = 1e6;
 /// Longest answer timeout [s] (a day).
 pub const MAX_TIMEOUT: f64 = 86_400.0;
+/// Most MPI ranks a participant may ask for (guards against typos).
+pub const MAX_RANKS: f64 = 4096.0;
 
 /// A whole scenario file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -116,6 +118,17 @@ pub struct ParticipantSpec {
     pub program: String,
     #[serde(default)]
     pub args: Vec<String>,
+    /// MPI ranks to run on (fluid only): more than one starts the program
+    /// under `mpirun -n ranks`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ranks: Option<u32>,
+}
+
+impl ParticipantSpec {
+    /// The ranks it runs on (1 unless `ranks` is given).
+    pub fn ranks(&self) -> u32 {
+        self.ranks.unwrap_or(1)
+    }
 }
 
 impl Participants {
@@ -266,6 +279,20 @@ impl Scenario {
                         "program is empty".into(),
                     );
                 }
+                if let Some(ranks) = spec.ranks {
+                    let key = ["participants", role.name(), "ranks"];
+                    if role != Role::Fluid {
+                        c.problem(
+                            &key,
+                            format!(
+                                "ranks is for the fluid participant only; `{}` runs as one process",
+                                role.name()
+                            ),
+                        );
+                    }
+                    c.nonzero(&key, ranks as f64);
+                    c.at_most(&key, ranks as f64, MAX_RANKS);
+                }
             }
             let has_section = match role {
                 Role::Fluid => self.fluid.is_some(),
@@ -307,6 +334,10 @@ impl Scenario {
                     ),
                 );
             }
+            let ranks = self.participants.fluid.as_ref().map_or(1, |f| f.ranks());
+            if ranks > 1 {
+                check_ranks(c, s, ranks);
+            }
             let courant = s.start_courant(k.window).unwrap_or(0.0);
             if courant > flow::MAX_COURANT {
                 c.problem(
@@ -335,5 +366,36 @@ impl Scenario {
         if let Some(s) = &self.rigid {
             s.check(c);
         }
+    }
+}
+
+/// Whether the fluid can run on `ranks` ranks: a model split among ranks
+/// (euler, for now), and slabs at least as thick as the stencil's reach, so
+/// that each rank's halo comes from its two neighbours.
+fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32) {
+    let key = ["participants", "fluid", "ranks"];
+    if s.model != fluid::FluidModel::Euler {
+        c.problem(
+            &key,
+            format!(
+                "ranks = {ranks}: model = \"{}\" runs on one rank for now; only model = \"euler\" is split among ranks",
+                s.model.name()
+            ),
+        );
+        return;
+    }
+    let Some(b) = s.flow_box else { return };
+    // The slab axis: the one with the most cells, the last of equals.
+    let axis = (0..3).rev().max_by_key(|&d| (b.cells[d], d)).unwrap_or(0);
+    if b.cells[axis] < flow::HALO_CELLS * ranks {
+        c.problem(
+            &key,
+            format!(
+                "ranks = {ranks} leaves fewer than {} cells per rank along {} ({} cells): use fewer ranks",
+                flow::HALO_CELLS,
+                ["x", "y", "z"][axis],
+                b.cells[axis]
+            ),
+        );
     }
 }
