@@ -1,0 +1,218 @@
+//! The malformed flow scenarios: the incompressible and euler models' keys
+//! and the ranks the fluid runs on, each edited into a shipped scene.
+
+use super::{replace, Case};
+use canopy_tests::scenario_path;
+
+/// The shipped cavity scenario with `from` replaced by `to` (flow cases).
+fn cavity_with(from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(scenario_path("cavity")).unwrap();
+    if from.is_empty() {
+        return text;
+    }
+    replace(&text, from, to)
+}
+
+/// The shipped Sod shock tube with `from` replaced by `to` (gas cases).
+fn sod_with(from: &str, to: &str) -> String {
+    replace(
+        &std::fs::read_to_string(scenario_path("sod")).unwrap(),
+        from,
+        to,
+    )
+}
+
+pub const CASES: &[Case] = &[
+    Case {
+        name: "flow-unpaired-periodic",
+        edit: |_| cavity_with("y_high =", "x_low = \"periodic\"\ny_high ="),
+        key: Some("fluid.sides.x_low"),
+        says: "periodic sides come in pairs",
+        line_of: Some("x_low = \"periodic\""),
+    },
+    Case {
+        name: "flow-porous-key",
+        edit: |_| cavity_with("viscosity = 0.01", "porosity = 0.5\nviscosity = 0.01"),
+        key: Some("fluid.porosity"),
+        says: "porosity is not a key of model = \"incompressible\"",
+        line_of: Some("porosity = 0.5"),
+    },
+    Case {
+        name: "flow-needs-box",
+        edit: |_| cavity_with("[fluid.box]", "[fluid.bx]"),
+        key: Some("fluid.bx"),
+        says: "unknown field `bx`",
+        line_of: Some("[fluid.bx]"),
+    },
+    Case {
+        name: "flow-without-box",
+        edit: |_| {
+            let t = cavity_with("", "");
+            let start = t.find("[fluid.box]").unwrap();
+            let end = t.find("[fluid.sides]").unwrap();
+            format!("{}{}", &t[..start], &t[end..])
+        },
+        key: Some("fluid.model"),
+        says: "needs the key `box`",
+        line_of: Some("model = \"incompressible\""),
+    },
+    Case {
+        name: "flow-courant",
+        edit: |_| cavity_with("window = 3.125e-3", "window = 0.05"),
+        key: Some("coupling.window"),
+        says: "(the Courant number)",
+        line_of: Some("window = 0.05"),
+    },
+    Case {
+        name: "flow-inflow-without-outflow",
+        edit: |_| cavity_with("y_high =", "y_low = { inflow = [0.0, 1.0, 0.0] }\ny_high ="),
+        key: Some("fluid.sides"),
+        says: "none is an outflow",
+        line_of: Some("[fluid.sides]"),
+    },
+    Case {
+        name: "flow-one-cell-wall",
+        edit: |_| cavity_with("y_high =", "z_low = \"wall\"\nz_high = \"wall\"\ny_high ="),
+        key: Some("fluid.sides.z_low"),
+        says: "one cell thick along z",
+        line_of: Some("z_low = \"wall\""),
+    },
+    Case {
+        name: "flow-too-few-cells",
+        edit: |_| cavity_with("cells = [128, 128, 1]", "cells = [128, 2, 1]"),
+        key: Some("fluid.box.cells"),
+        says: "or at least 4",
+        line_of: Some("cells = [128, 2, 1]"),
+    },
+    Case {
+        name: "flow-lid-along-thin-axis",
+        edit: |_| cavity_with("velocity = [1.0, 0.0, 0.0]", "velocity = [0.0, 0.0, 1.0]"),
+        key: Some("fluid.sides.y_high"),
+        says: "moves along z, but the box is one cell thick there",
+        line_of: Some("velocity = [0.0, 0.0, 1.0]"),
+    },
+    Case {
+        name: "gas-velocity-side",
+        edit: |_| {
+            sod_with(
+                "x_high = \"outflow\"",
+                "x_high = { velocity = [1.0, 0.0, 0.0] }",
+            )
+        },
+        key: Some("fluid.sides.x_high"),
+        says: "belongs to model = \"incompressible\"",
+        line_of: Some("x_high = { velocity"),
+    },
+    Case {
+        name: "gas-wave-too-large",
+        edit: |_| {
+            sod_with(
+                "density = 0.125\n",
+                "density = 0.125\ndensity_wave = { amplitude = 0.2, wavenumber = [5.0, 0.0, 0.0] }\n",
+            )
+        },
+        key: Some("fluid.regions[0].density_wave.amplitude"),
+        says: "the density turns negative",
+        line_of: Some("density_wave = "),
+    },
+    Case {
+        name: "gas-first-region-partial",
+        edit: |_| {
+            sod_with(
+                "density = 0.125",
+                "lower = [0.2, 0.0, 0.0]\ndensity = 0.125",
+            )
+        },
+        key: Some("fluid.regions[0].lower"),
+        says: "the first region must cover the whole box",
+        line_of: Some("lower = [0.2"),
+    },
+    Case {
+        name: "gas-region-pressure",
+        edit: |_| sod_with("pressure = 1.0", "pressure = -1.0"),
+        key: Some("fluid.regions[1].pressure"),
+        says: "pressure = -1 must be > 0 Pa",
+        line_of: Some("pressure = -1.0"),
+    },
+    Case {
+        name: "gas-gamma",
+        edit: |_| sod_with("gamma = 1.4", "gamma = 1.0"),
+        key: Some("fluid.gamma"),
+        says: "gamma = 1 must be > 1",
+        line_of: Some("gamma = 1.0"),
+    },
+    Case {
+        name: "gas-cfl",
+        edit: |_| sod_with("gamma = 1.4", "gamma = 1.4\ncfl = 1.5"),
+        key: Some("fluid.cfl"),
+        says: "cfl = 1.5 must lie in (0, 1]",
+        line_of: Some("cfl = 1.5"),
+    },
+    Case {
+        name: "gas-density-key",
+        edit: |_| sod_with("gamma = 1.4", "gamma = 1.4\ndensity = 1.2"),
+        key: Some("fluid.density"),
+        says: "density is not a key of model = \"euler\"",
+        line_of: Some("density = 1.2"),
+    },
+    Case {
+        name: "gas-without-regions",
+        edit: |_| {
+            let t = sod_with("", "");
+            let start = t.find("[[fluid.regions]]").unwrap();
+            t[..start].to_string()
+        },
+        key: Some("fluid.model"),
+        says: "needs the key `regions`",
+        line_of: Some("model = \"euler\""),
+    },
+    Case {
+        name: "ranks-on-structure",
+        edit: |t| {
+            replace(
+                t,
+                "program = \"structure-proc\"",
+                "program = \"structure-proc\"\nranks = 2",
+            )
+        },
+        key: Some("participants.structure.ranks"),
+        says: "ranks is for the fluid participant only",
+        line_of: Some("ranks = 2"),
+    },
+    Case {
+        name: "ranks-zero",
+        edit: |_| {
+            sod_with(
+                "program = \"fluid-proc\"",
+                "program = \"fluid-proc\"\nranks = 0",
+            )
+        },
+        key: Some("participants.fluid.ranks"),
+        says: "ranks must be at least 1",
+        line_of: Some("ranks = 0"),
+    },
+    Case {
+        name: "ranks-incompressible",
+        edit: |_| {
+            cavity_with(
+                "program = \"fluid-proc\"",
+                "program = \"fluid-proc\"\nranks = 2",
+            )
+        },
+        key: Some("participants.fluid.ranks"),
+        says: "only model = \"euler\" is split among ranks",
+        line_of: Some("ranks = 2"),
+    },
+    Case {
+        name: "ranks-thinner-than-halo",
+        edit: |_| {
+            sod_with(
+                "program = \"fluid-proc\"",
+                "program = \"fluid-proc\"\nranks = 200",
+            )
+        },
+        key: Some("participants.fluid.ranks"),
+        says: "leaves fewer than 3 cells per rank along x (400 cells)",
+        line_of: Some("ranks = 200"),
+    },
+];
