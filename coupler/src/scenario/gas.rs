@@ -86,17 +86,11 @@ impl GasRegion {
                 );
             }
         }
-        let covers = (0..3).all(|d| {
-            self.lower.is_none_or(|l| l[d] <= b.lower[d])
-                && self.upper.is_none_or(|u| u[d] >= b.upper[d])
-        });
-        if first && !covers {
+        let lower_covers = (0..3).all(|d| self.lower.is_none_or(|l| l[d] <= b.lower[d]));
+        let upper_covers = (0..3).all(|d| self.upper.is_none_or(|u| u[d] >= b.upper[d]));
+        if first && !(lower_covers && upper_covers) {
             c.problem(
-                &[if self.lower.is_some() {
-                    "lower"
-                } else {
-                    "upper"
-                }],
+                &[if lower_covers { "upper" } else { "lower" }],
                 "the first region must cover the whole box (leave out lower and upper), so that \
                  every cell has a gas; later regions override it"
                     .into(),

@@ -387,7 +387,7 @@ fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32) {
     let Some(b) = s.flow_box else { return };
     // The slab axis: the one with the most cells, the last of equals.
     let axis = (0..3).rev().max_by_key(|&d| (b.cells[d], d)).unwrap_or(0);
-    if b.cells[axis] < flow::HALO_CELLS * ranks {
+    if u64::from(b.cells[axis]) < u64::from(flow::HALO_CELLS) * u64::from(ranks) {
         c.problem(
             &key,
             format!(
