@@ -136,15 +136,25 @@ impl Compressible {
 
     /// The conserved state of every cell of this rank, x fastest.
     pub fn cells(&self) -> Vec<State> {
-        let mut out = Vec::with_capacity(self.rhs.len());
-        for_cells(self.n, |c, _| out.push(self.u[self.at(c)]));
-        out
+        self.own().copied().collect()
+    }
+
+    /// This rank's cell states in place, x fastest (a row along x is
+    /// contiguous in the padded layout), without copying them.
+    fn own(&self) -> impl Iterator<Item = &State> + '_ {
+        let n = self.n;
+        (0..n[2]).flat_map(move |k| {
+            (0..n[1]).flat_map(move |j| {
+                let p = self.lay.at([0, j as isize, k as isize]);
+                self.u[p..p + n[0]].iter()
+            })
+        })
     }
 
     /// The primitive state of every cell of this rank, x fastest.
     pub fn primitives(&self) -> Vec<Primitive> {
         let gas = self.setup.gas;
-        self.cells().iter().map(|s| gas.primitive(s)).collect()
+        self.own().map(|s| gas.primitive(s)).collect()
     }
 
     /// The primitive state of every cell of the box, x fastest, on rank 0
@@ -189,7 +199,7 @@ impl Compressible {
     pub fn totals(&self) -> State {
         let volume: f64 = self.setup.h.iter().product();
         let mut sum = [0.0; 5];
-        for s in self.cells() {
+        for s in self.own() {
             for (t, v) in sum.iter_mut().zip(s) {
                 *t += v * volume;
             }
@@ -202,9 +212,9 @@ impl Compressible {
     pub fn lowest(&self) -> [f64; 2] {
         let gas = self.setup.gas;
         let mut low = [f64::INFINITY; 2];
-        for s in self.cells() {
+        for s in self.own() {
             low[0] = low[0].min(s[0]);
-            low[1] = low[1].min(gas.pressure(&s));
+            low[1] = low[1].min(gas.pressure(s));
         }
         low.map(|x| self.comm.min(x))
     }
@@ -215,8 +225,7 @@ impl Compressible {
         let s = &self.setup;
         let active: Vec<usize> = (0..3).filter(|&d| s.n[d] > 1).collect();
         let rate = self
-            .cells()
-            .iter()
+            .own()
             .map(|u| {
                 let c = s.gas.sound_speed(u);
                 active
