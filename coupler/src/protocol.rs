@@ -55,8 +55,9 @@ pub enum Field {
     /// its velocity [m/s], Euler parameters e₀…e₃ (A(e) of seed 000 eq. 3.5
     /// takes world axes to body axes) and angular velocity in world axes [rad/s].
     BodyStates,
-    /// Fluid load on each rigid body over one window, 6 per body: force [N]
-    /// (seed 000 eq. 2.40) and torque about the centre of mass [N·m], world axes.
+    /// Fluid load on each rigid body, the mean over one window, 6 per body:
+    /// force [N] (the pressure of seed 000 eq. 2.40 and the friction) and
+    /// torque about the centre of mass [N·m], world axes.
     BodyLoads,
     /// Rigid bodies at the start of every impulse sub-step, laid out as
     /// [`Field::BodyStates`]: the obstacles of the structure's collision pass.

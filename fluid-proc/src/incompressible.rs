@@ -7,6 +7,7 @@
 //!    q = p^{n−½}: the advection term (`advection.rs`, WENO5) extrapolated
 //!    to n + ½ by Adams–Bashforth, the viscous term Crank–Nicolson
 //!    (`viscosity.rs`);
+//!    Bodies in the flow then force u* to their motion (`immersed.rs`);
 //! 2. u^{n+1} = u* − Δt∇φ with ∇·u^{n+1} = 0 (`mac.rs`, `poisson.rs`);
 //! 3. p^{n+½} = q + φ − (νΔt/2)∇²φ.
 //!
@@ -16,6 +17,7 @@
 
 use crate::advection::advection;
 use crate::grid::Grid;
+use crate::immersed::{force, ImmersedBody};
 use crate::mac::{for_each_cell_faces, for_each_gradient, project, Faces};
 use crate::padded::Padded;
 use crate::poisson::{Poisson, SolveError};
@@ -91,6 +93,8 @@ pub struct Incompressible {
     /// The previous step's Δt (None before the first step).
     last_dt: Option<f64>,
     pub time: f64,
+    /// Rigid bodies in the flow (`immersed.rs`), markers in the box's frame.
+    pub bodies: Vec<ImmersedBody>,
 }
 
 impl Incompressible {
@@ -131,6 +135,7 @@ impl Incompressible {
             work,
             last_dt: None,
             time: 0.0,
+            bodies: Vec::new(),
             setup,
         };
         flow.impose_sides();
@@ -181,6 +186,14 @@ impl Incompressible {
         let mut sum = 0.0;
         self.for_each_cell_velocity(|_, v| sum += v.iter().map(|x| x * x).sum::<f64>());
         0.5 * self.setup.density * sum * volume
+    }
+
+    /// Momentum ρΣuV over the cells, from the cell velocities [kg·m/s].
+    pub fn momentum(&self) -> [f64; 3] {
+        let volume: f64 = self.setup.grid.h.iter().product();
+        let mut sum = [0.0; 3];
+        self.for_each_cell_velocity(|_, v| (0..3).for_each(|d| sum[d] += v[d]));
+        sum.map(|s| self.setup.density * s * volume)
     }
 
     /// Largest |∇·u| over the cells [1/s].
@@ -258,6 +271,13 @@ impl Incompressible {
             u.fill_ghosts(sides);
             u.store(&mut self.u);
         }
+        if !self.bodies.is_empty() {
+            // The bodies' forcing acts on u* before the projection, so the
+            // projected field is divergence-free with the bodies in it.
+            force(grid, &mut self.u, dt, &mut self.bodies);
+            self.impose_sides();
+        }
+        let grid = &self.setup.grid;
         let clock = std::time::Instant::now();
         let pressure_iterations = project(
             grid,

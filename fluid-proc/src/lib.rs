@@ -13,6 +13,9 @@
 //!   - the pressure operator (`laplacian.rs`), its multigrid-preconditioned
 //!     conjugate-gradient solve (`multigrid.rs`, `poisson.rs`) and the
 //!     projection on the staggered grid (`mac.rs`).
+//! - Rigid bodies in that flow: markers on their surfaces (`surface.rs`)
+//!   held to the bodies' motion by direct forcing (`immersed.rs`) with
+//!   Peskin's 4-point δ (`delta.rs`).
 //! - The compressible Euler solver of seed 000 §3.2.1 (`compressible.rs`,
 //!   third-order TVD Runge–Kutta): the ideal gas and its characteristic
 //!   fields (`gas.rs`), the characteristic WENO5 flux along a line
@@ -27,8 +30,10 @@ pub mod advection;
 pub mod characteristic;
 pub mod comm;
 pub mod compressible;
+pub mod delta;
 pub mod gas;
 pub mod grid;
+pub mod immersed;
 pub mod incompressible;
 pub mod laplacian;
 pub mod mac;
@@ -41,6 +46,7 @@ pub mod profile;
 pub mod riemann;
 pub mod setup;
 pub mod side;
+pub mod surface;
 pub mod viscosity;
 pub mod weno5;
 

@@ -9,7 +9,10 @@ use fluid_proc::incompressible::{Incompressible, StepReport};
 use fluid_proc::setup::flow_from;
 use fluid_proc::{triangles_from_field, Porous};
 
+mod flow_bodies;
 mod gas_run;
+
+use flow_bodies::FlowBodies;
 
 type Error = Box<dyn std::error::Error>;
 
@@ -108,13 +111,16 @@ fn run_porous(p: &mut Participant, section: &FluidSection) -> Result<u64, Error>
 fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64, Error> {
     let mut flow = flow_from(section).ok_or("[fluid] has no box")?;
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
+    let mut bodies = FlowBodies::new(p.scenario(), &mut flow, origin)?;
+    let mut loads = vec![0.0; 6 * flow.bodies.len()];
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
     let mut before = flow.u.clone();
     loop {
         match p.next_command()? {
             Command::Initialize => {
-                let m = flow_monitors(&mut flow, StepReport::default(), f64::NAN);
+                let mut m = flow_monitors(&mut flow, StepReport::default(), f64::NAN);
+                m.extend(bodies.monitors(None));
                 p.done(m)?
             }
             Command::Output { index, time } => {
@@ -134,6 +140,15 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
                 p.done(Vec::new())?
             }
             Command::Advance(a) => {
+                if p.is_connected(Field::BodyStates) {
+                    // The bodies where rigid-proc left them at the window's start.
+                    let states = p.read_field(Field::BodyStates)?;
+                    if let Err(e) = bodies.read(&states, &mut flow) {
+                        let msg = format!("at t = {} s: {e}", flow.time);
+                        p.fail(msg.clone())?;
+                        return Err(msg.into());
+                    }
+                }
                 before.clone_from(&flow.u);
                 let n = a.substeps.max(1);
                 let dt = a.dt / n as f64;
@@ -149,10 +164,18 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
                     }
                     steps += 1;
                 }
+                if !bodies.is_empty() {
+                    bodies.take_loads(&mut flow, &mut loads);
+                    p.write_field(Field::BodyLoads, loads.len(), |out| {
+                        out.copy_from_slice(&loads)
+                    })?;
+                }
                 let m = if a.window_end {
                     // How far from steady: max|∂u/∂t| over the window [m/s²].
                     let change = flow.u.max_difference(&before) / a.dt;
-                    flow_monitors(&mut flow, report, change)
+                    let mut m = flow_monitors(&mut flow, report, change);
+                    m.extend(bodies.monitors(Some(&loads)));
+                    m
                 } else {
                     Vec::new()
                 };
@@ -166,8 +189,12 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
 }
 
 fn flow_monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> Vec<Monitor> {
+    let momentum = flow.momentum();
     vec![
         Monitor::new("kinetic_energy", flow.kinetic_energy()),
+        Monitor::new("momentum_x", momentum[0]),
+        Monitor::new("momentum_y", momentum[1]),
+        Monitor::new("momentum_z", momentum[2]),
         Monitor::new("max_divergence", flow.max_divergence()),
         Monitor::new("steady_residual", steady_residual),
         Monitor::new("courant", r.courant),

@@ -6,6 +6,7 @@
 //! - a given velocity U: the normal component's side face is U itself and
 //!   its ghosts mirror oddly about it (2U − u); the tangential components'
 //!   ghosts mirror oddly about the side, half a cell away (2U − u);
+//! - a parabolic inflow: the same, U times the profile at the face's place;
 //! - an outflow: constant extrapolation of the last face or cell;
 //! - periodic: the values from the other end.
 //!
@@ -14,7 +15,7 @@
 
 use crate::grid::Grid;
 use crate::mac::Faces;
-use crate::side::{Side, Sides};
+use crate::side::{parabola, Side, Sides};
 
 /// Ghost layers per side: WENO5 reads three values beyond a face.
 pub const GHOSTS: usize = 3;
@@ -113,7 +114,7 @@ impl Padded {
         let dims = lay.dims();
         lay.stride = [1, dims[0], dims[0] * dims[1]];
         lay.unknown[c] = [
-            matches!(sides[c][0], Side::Velocity(_)) as usize,
+            sides[c][0].given(1.0).is_some() as usize,
             n[c] + matches!(sides[c][1], Side::Outflow) as usize,
         ];
         Padded {
@@ -156,13 +157,40 @@ impl Padded {
         let lay = self.lay;
         for (a, &pair) in sides.iter().enumerate() {
             if lay.g[a] > 0 {
-                lay.for_each_line(a, |base| self.fill_line(base, a, pair));
+                lay.for_each_line(a, |base| {
+                    let profile = self.profile(sides, base, a);
+                    self.fill_line(base, a, pair, profile)
+                });
             }
         }
     }
 
+    /// The shape factor of a parabolic side for the line along `a` whose
+    /// entry 0 is at `base`: `parabola` of the line's place across each
+    /// other axis that is not periodic (1 on a line of a uniform side).
+    fn profile(&self, sides: &Sides, base: usize, a: usize) -> f64 {
+        if !sides[a].iter().any(|s| matches!(s, Side::Parabolic(_))) {
+            return 1.0;
+        }
+        let lay = &self.lay;
+        let dims = lay.dims();
+        let mut f = 1.0;
+        for t in (0..3).filter(|&t| t != a && sides[t][0] != Side::Periodic) {
+            let i = (base / lay.stride[t]) % dims[t];
+            let i = i as f64 - lay.g[t] as f64;
+            // Faces along c sit at i·h, cells elsewhere at (i + ½)·h.
+            let s = if t == self.c {
+                i / (lay.m[t] - 1) as f64
+            } else {
+                (i + 0.5) / lay.m[t] as f64
+            };
+            f *= parabola(s);
+        }
+        f
+    }
+
     /// The ghosts of one line along axis a, whose face 0 is at `base`.
-    fn fill_line(&mut self, base: usize, a: usize, sides: [Side; 2]) {
+    fn fill_line(&mut self, base: usize, a: usize, sides: [Side; 2], profile: f64) {
         let s = self.lay.stride[a] as isize;
         let g = self.lay.g[a] as isize;
         let m = self.lay.m[a] as isize;
@@ -187,26 +215,26 @@ impl Padded {
             [low, high] => {
                 for (side, up) in [(low, false), (high, true)] {
                     let (edge, dir) = if up { (last, 1) } else { (0, -1) };
-                    match side {
-                        Side::Velocity(u) if normal => {
+                    match (side, side.given(profile)) {
+                        (_, Some(u)) if normal => {
                             d[ix(edge)] = u[c];
                             for k in 1..=g {
                                 d[ix(edge + dir * k)] = 2.0 * u[c] - d[ix(edge - dir * k)];
                             }
                         }
-                        Side::Velocity(u) => {
+                        (_, Some(u)) => {
                             for k in 1..=g {
                                 d[ix(edge + dir * k)] = 2.0 * u[c] - d[ix(edge - dir * (k - 1))];
                             }
                         }
-                        Side::Outflow => {
+                        (Side::Outflow, _) => {
                             for k in 1..=g {
                                 d[ix(edge + dir * k)] = d[ix(edge)];
                             }
                         }
                         // A periodic side facing a non-periodic one is
                         // refused when the flow is built.
-                        Side::Periodic => {}
+                        _ => {}
                     }
                 }
             }

@@ -8,7 +8,7 @@ use crate::incompressible::Incompressible;
 /// speed. Botella & Peyret, Comput. Fluids 27, 421–433 (1998), Chebyshev
 /// spectral solution. The cavity test and the benchmark measure against it.
 pub const CAVITY_RE100_EXTREMA: [f64; 3] = [-0.2140424, 0.1795728, -0.2538030];
-use crate::side::Side;
+use crate::side::{parabola, Side};
 
 /// Component `d` on the faces along axis `along` (≠ d) through face
 /// `through` (its coordinate along `along` is ignored), as (position from
@@ -35,6 +35,19 @@ pub fn face_line(
     let inside: Vec<(f64, f64)> = (0..n).map(|k| ((k as f64 + 0.5) * h, value(k))).collect();
     let side = |s: usize| match flow.setup.sides[along][s] {
         Side::Velocity(v) => v[d],
+        Side::Parabolic(v) => {
+            // The line's place across the side: faces of d at i·h, cells
+            // elsewhere at (i + ½)·h.
+            let sides = &flow.setup.sides;
+            let across = (0..3).filter(|&t| t != along && sides[t][0] != Side::Periodic);
+            let shape: f64 = across
+                .map(|t| {
+                    let i = through[t] as f64 + if t == d { 0.0 } else { 0.5 };
+                    parabola(i / g.n[t] as f64)
+                })
+                .product();
+            v[d] * shape
+        }
         Side::Outflow => inside[if s == 0 { 0 } else { n - 1 }].1,
         Side::Periodic => 0.5 * (inside[0].1 + inside[n - 1].1),
     };

@@ -20,6 +20,7 @@ pub fn flow_from(section: &FluidSection) -> Option<Incompressible> {
         s.map(|s| match s {
             SideSpec::Wall => Side::WALL,
             SideSpec::Velocity(v) => Side::Velocity(v),
+            SideSpec::Parabolic(v) => Side::Parabolic(v),
             SideSpec::Outflow => Side::Outflow,
             SideSpec::Periodic => Side::Periodic,
         })
@@ -63,7 +64,7 @@ pub fn gas_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Compressibl
                 SideSpec::Wall => GasSide::Wall,
                 SideSpec::Outflow => GasSide::Outflow,
                 SideSpec::Periodic => GasSide::Periodic,
-                SideSpec::Velocity(_) => return None,
+                SideSpec::Velocity(_) | SideSpec::Parabolic(_) => return None,
             };
         }
     }

@@ -9,10 +9,19 @@ pub enum Side {
     /// The velocity on the side is given [m/s]: a no-slip wall (zero), a
     /// moving wall (a lid) or an inflow. φ has ∂φ/∂n = 0 there.
     Velocity([f64; 3]),
+    /// A channel inflow: this peak velocity [m/s] times 4s(1 − s) across
+    /// each direction along the side that is not periodic (`parabola`).
+    Parabolic([f64; 3]),
     /// An outflow at p = 0: the velocity has no normal gradient.
     Outflow,
     /// Wraps to the opposite side, which must be periodic too.
     Periodic,
+}
+
+/// Poiseuille's profile 4s(1 − s) across a channel, s from 0 at one wall
+/// to 1 at the other.
+pub fn parabola(s: f64) -> f64 {
+    4.0 * s * (1.0 - s)
 }
 
 /// The six sides: `sides[d] = [low, high]` along axis d.
@@ -21,10 +30,20 @@ pub type Sides = [[Side; 2]; 3];
 impl Side {
     pub const WALL: Side = Side::Velocity([0.0; 3]);
 
+    /// The velocity the side gives where its shape factor is `profile`
+    /// (the product of `parabola` across it; 1 for a uniform side) [m/s].
+    pub fn given(self, profile: f64) -> Option<[f64; 3]> {
+        match self {
+            Side::Velocity(v) => Some(v),
+            Side::Parabolic(v) => Some(v.map(|v| v * profile)),
+            _ => None,
+        }
+    }
+
     /// The condition on the pressure correction φ (eq. 3.19).
     pub fn bc(self) -> Bc {
         match self {
-            Side::Velocity(_) => Bc::Neumann,
+            Side::Velocity(_) | Side::Parabolic(_) => Bc::Neumann,
             Side::Outflow => Bc::Dirichlet,
             Side::Periodic => Bc::Periodic,
         }
@@ -35,7 +54,7 @@ impl Side {
     /// the sides) must obey.
     pub fn homogeneous(self) -> Side {
         match self {
-            Side::Velocity(_) => Side::WALL,
+            Side::Velocity(_) | Side::Parabolic(_) => Side::WALL,
             s => s,
         }
     }

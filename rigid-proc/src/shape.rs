@@ -69,12 +69,20 @@ impl Shape {
 
     /// A closed triangulation of the surface in the own frame, for output.
     pub fn surface(&self) -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
+        self.surface_with(DRAW_SEGMENTS)
+    }
+
+    /// A closed, outward-wound triangulation of the surface in the own
+    /// frame, a sphere or cylinder drawn with `segments` around (at least
+    /// 4); a cuboid's or mesh's own triangles.
+    pub fn surface_with(&self, segments: u32) -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
+        let segments = segments.max(4);
         let (points, triangles) = if let Some(b) = self.shape.as_ball() {
-            b.to_trimesh(DRAW_SEGMENTS, DRAW_SEGMENTS / 2)
+            b.to_trimesh(segments, segments / 2)
         } else if let Some(c) = self.shape.as_cuboid() {
             c.to_trimesh()
         } else if let Some(c) = self.shape.as_cylinder() {
-            c.to_trimesh(DRAW_SEGMENTS)
+            c.to_trimesh(segments)
         } else if let Some(m) = self.shape.as_trimesh() {
             (m.vertices().to_vec(), m.indices().to_vec())
         } else {

@@ -80,10 +80,24 @@ pub enum SideSpec {
     /// normal component, an inflow (`inflow` is the same).
     #[serde(alias = "inflow")]
     Velocity([f64; 3]),
+    /// A channel inflow: this peak velocity [m/s] times 4s(1 − s) across
+    /// each of the side's directions that is not periodic, s running from 0
+    /// to 1 between the walls (Poiseuille's profile; Schäfer & Turek 1996).
+    Parabolic([f64; 3]),
     /// An outflow at p = 0.
     Outflow,
     /// Wraps to the opposite side, which must be periodic too.
     Periodic,
+}
+
+impl SideSpec {
+    /// The velocity the side gives (a parabolic side's peak) [m/s].
+    pub fn velocity(&self) -> Option<[f64; 3]> {
+        match self {
+            SideSpec::Velocity(v) | SideSpec::Parabolic(v) => Some(*v),
+            _ => None,
+        }
+    }
 }
 
 /// `[fluid.sides]`: one entry per side. A side left out is a wall, or
@@ -121,12 +135,9 @@ impl FlowSides {
         ]
     }
 
-    /// The velocities the sides give [m/s].
+    /// The largest velocities the sides give [m/s] (a parabolic side's peak).
     pub fn velocities(sides: &[[SideSpec; 2]; 3]) -> impl Iterator<Item = [f64; 3]> + '_ {
-        sides.iter().flatten().filter_map(|s| match s {
-            SideSpec::Velocity(v) => Some(*v),
-            _ => None,
-        })
+        sides.iter().flatten().filter_map(|s| s.velocity())
     }
 
     /// Every side, with the defaults for those left out.
@@ -147,7 +158,7 @@ impl FlowSides {
         c.within("sides", None, |c| {
             for d in 0..3 {
                 for s in 0..2 {
-                    if let SideSpec::Velocity(v) = sides[d][s] {
+                    if let Some(v) = sides[d][s].velocity() {
                         c.finite3(&[SIDE_KEYS[d][s]], v);
                     }
                 }
@@ -165,7 +176,7 @@ impl FlowSides {
                 // A 2-D flow has no velocity along its thin axis.
                 let moves_along_thin = |s: usize, a: usize| {
                     flow_box.cells[a] == 1
-                        && matches!(sides[d][s], SideSpec::Velocity(v) if v[a] != 0.0)
+                        && sides[d][s].velocity().is_some_and(|v| v[a] != 0.0)
                 };
                 for s in 0..2 {
                     if let Some(a) = (0..3).find(|&a| moves_along_thin(s, a)) {
@@ -216,9 +227,18 @@ fn net_inflow(sides: &[[SideSpec; 2]; 3], b: &FlowBox) -> (f64, f64) {
     for d in 0..3 {
         let area = size[(d + 1) % 3] * size[(d + 2) % 3];
         for (s, sign) in [(0, 1.0), (1, -1.0)] {
-            if let SideSpec::Velocity(v) = sides[d][s] {
-                net += sign * v[d] * area;
-                scale += (v[d] * area).abs();
+            if let Some(v) = sides[d][s].velocity() {
+                // The mean of 4s(1 − s) over 0 ≤ s ≤ 1 is 2/3.
+                let mut mean = v[d];
+                if let SideSpec::Parabolic(_) = sides[d][s] {
+                    for t in [(d + 1) % 3, (d + 2) % 3] {
+                        if sides[t][0] != SideSpec::Periodic {
+                            mean *= 2.0 / 3.0;
+                        }
+                    }
+                }
+                net += sign * mean * area;
+                scale += (mean * area).abs();
             }
         }
     }

@@ -150,7 +150,7 @@ pub fn check(
     let Some(sides) = sides else { return };
     for d in 0..3 {
         for s in 0..2 {
-            if let SideSpec::Velocity(_) = sides[d][s] {
+            if sides[d][s].velocity().is_some() {
                 let key = SIDE_KEYS[d][s];
                 c.within("sides", None, |c| {
                     c.problem(

@@ -321,15 +321,26 @@ impl Scenario {
         }
         if let Some(s) = &self.fluid {
             s.check(c);
-            let partners =
-                self.participants.structure.is_some() || self.participants.rigid.is_some();
-            if s.model != fluid::FluidModel::PorousFreeStream && partners {
+            // The incompressible flow takes rigid bodies (immersed
+            // boundaries); a canopy in a flow field is not coupled yet.
+            let partners = match s.model {
+                fluid::FluidModel::PorousFreeStream => None,
+                fluid::FluidModel::Incompressible => self
+                    .participants
+                    .structure
+                    .is_some()
+                    .then_some("a structure"),
+                fluid::FluidModel::Euler => (self.participants.structure.is_some()
+                    || self.participants.rigid.is_some())
+                .then_some("a structure or rigid bodies"),
+            };
+            if let Some(partners) = partners {
                 c.problem(
                     &["fluid", "model"],
                     format!(
-                        "model = \"{}\" runs the flow alone for now: a canopy or bodies in the \
-                         flow are not coupled to it yet, so use model = \"porous-free-stream\" \
-                         for a scene with a structure or rigid bodies",
+                        "model = \"{}\" is not coupled to {partners} yet: use model = \
+                         \"porous-free-stream\" for such a scene (model = \"incompressible\" \
+                         takes rigid bodies)",
                         s.model.name()
                     ),
                 );

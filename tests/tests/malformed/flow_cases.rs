@@ -167,6 +167,31 @@ pub const CASES: &[Case] = &[
         line_of: Some("model = \"euler\""),
     },
     Case {
+        name: "gas-with-bodies",
+        edit: |_| {
+            let t = sod_with(
+                "program = \"fluid-proc\"",
+                "program = \"fluid-proc\"\n\n[participants.rigid]\nprogram = \"rigid-proc\"",
+            );
+            t + "\n[[rigid.bodies]]\nname = \"ball\"\nmass = 1.0\nposition = [0.5, 0.0, 0.0]\n"
+        },
+        key: Some("fluid.model"),
+        says: "is not coupled to a structure or rigid bodies yet",
+        line_of: Some("model = \"euler\""),
+    },
+    Case {
+        name: "gas-parabolic-side",
+        edit: |_| {
+            sod_with(
+                "x_low = \"outflow\"",
+                "x_low = { parabolic = [1.0, 0.0, 0.0] }",
+            )
+        },
+        key: Some("fluid.sides.x_low"),
+        says: "a side with a given velocity belongs to model = \"incompressible\"",
+        line_of: Some("x_low = { parabolic"),
+    },
+    Case {
         name: "ranks-on-structure",
         edit: |t| {
             replace(

@@ -1,0 +1,139 @@
+//! The scenario's rigid bodies as the incompressible flow sees them: their
+//! shapes' markers placed at the poses rigid-proc sends every window, and
+//! the fluid's load on each sent back (`immersed.rs` does the physics).
+
+use coupler::scenario::Scenario;
+use coupler::Monitor;
+use fluid_proc::immersed::{place_markers, ImmersedBody};
+use fluid_proc::incompressible::Incompressible;
+use fluid_proc::surface::Surface;
+use rigid_proc::body::STATE_LEN;
+use rigid_proc::Body;
+
+/// Cells a body's markers must keep from a side that is not periodic: the
+/// δ kernel reaches two cells, and the side's face is given, not forced.
+const CLEARANCE_CELLS: f64 = 3.0;
+
+pub struct FlowBodies {
+    bodies: Vec<Body>,
+    surfaces: Vec<Option<Surface>>,
+    origin: [f64; 3],
+}
+
+impl FlowBodies {
+    /// The bodies of the scenario's `[rigid]` section (none without one),
+    /// placed in `flow` at their initial poses. Mass points have no
+    /// surface: the seed's mass-point parachutist, outside the flow.
+    pub fn new(
+        scenario: &Scenario,
+        flow: &mut Incompressible,
+        origin: [f64; 3],
+    ) -> Result<FlowBodies, String> {
+        let specs = scenario.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
+        let bodies = specs
+            .iter()
+            .map(Body::from_spec)
+            .collect::<Result<Vec<_>, _>>()?;
+        let g = flow.grid();
+        let spacing = (0..3)
+            .filter(|&d| g.n[d] > 1)
+            .map(|d| g.h[d])
+            .fold(f64::INFINITY, f64::min);
+        let surfaces = bodies
+            .iter()
+            .map(|b| b.shape.as_ref().map(|s| Surface::of(s, spacing)))
+            .collect();
+        flow.bodies = vec![ImmersedBody::default(); bodies.len()];
+        let mut all = FlowBodies {
+            bodies,
+            surfaces,
+            origin,
+        };
+        all.place(flow)?;
+        Ok(all)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.bodies.is_empty()
+    }
+
+    /// Takes the states rigid-proc sent ([`STATE_LEN`] per body) and puts
+    /// the bodies there.
+    pub fn read(&mut self, states: &[f64], flow: &mut Incompressible) -> Result<(), String> {
+        if states.len() != STATE_LEN * self.bodies.len() {
+            return Err(format!(
+                "rigid-proc sent {} values for {} bodies",
+                states.len(),
+                self.bodies.len()
+            ));
+        }
+        for (b, s) in self.bodies.iter_mut().zip(states.chunks_exact(STATE_LEN)) {
+            b.read_state(s);
+        }
+        self.place(flow)
+    }
+
+    fn place(&mut self, flow: &mut Incompressible) -> Result<(), String> {
+        let o = self.origin;
+        for ((body, surface), immersed) in
+            self.bodies.iter().zip(&self.surfaces).zip(&mut flow.bodies)
+        {
+            let Some(surface) = surface else { continue };
+            let (markers, volume) = place_markers(surface, &body.own_pose(), &flow.setup.grid, o);
+            let g = &flow.setup.grid;
+            for m in &markers {
+                for d in (0..3).filter(|&d| g.bc[d][0] != fluid_proc::grid::Bc::Periodic) {
+                    let room = CLEARANCE_CELLS * g.h[d];
+                    let length = g.n[d] as f64 * g.h[d];
+                    if m.x[d] < room || m.x[d] > length - room {
+                        let side = ["low", "high"][(m.x[d] > length / 2.0) as usize];
+                        return Err(format!(
+                            "body `{}` comes within {CLEARANCE_CELLS} cells of the flow box's {}_{side} side \
+                             (at {:.4} m): the immersed boundary needs fluid round the body, so enlarge \
+                             [fluid.box] or move the body",
+                            body.name,
+                            ["x", "y", "z"][d],
+                            m.x[d] + o[d]
+                        ));
+                    }
+                }
+            }
+            let x = body.state.x;
+            immersed.place(
+                markers,
+                [0, 1, 2].map(|d| x[d] - o[d]),
+                body.state.v.into(),
+                body.world_angular_velocity().into(),
+                volume,
+            );
+        }
+        Ok(())
+    }
+
+    /// The fluid's mean load on each body since the last call, 6 per body:
+    /// force [N] then torque about the centre of mass [N·m].
+    pub fn take_loads(&self, flow: &mut Incompressible, out: &mut [f64]) {
+        let density = flow.setup.density;
+        for (b, o) in flow.bodies.iter_mut().zip(out.chunks_exact_mut(6)) {
+            let (f, t) = b.take_load(density);
+            o[..3].copy_from_slice(&f);
+            o[3..].copy_from_slice(&t);
+        }
+    }
+
+    /// Monitors of each body with a shape: the force from `loads` (NaN
+    /// before the first window).
+    pub fn monitors(&self, loads: Option<&[f64]>) -> Vec<Monitor> {
+        let mut out = Vec::new();
+        for (i, (b, s)) in self.bodies.iter().zip(&self.surfaces).enumerate() {
+            if s.is_none() {
+                continue;
+            }
+            for (d, axis) in ["x", "y", "z"].iter().enumerate() {
+                let v = loads.map_or(f64::NAN, |l| l[6 * i + d]);
+                out.push(Monitor::new(format!("{}_fluid_force_{axis}", b.name), v));
+            }
+        }
+        out
+    }
+}
