@@ -195,3 +195,13 @@ pub fn number_after(text: &str, marker: &str) -> f64 {
         .and_then(|x| x.parse().ok())
         .unwrap_or_else(|| panic!("no number after {marker:?} in {text:?}"))
 }
+
+/// The last `.vti` the fluid wrote into a run directory.
+pub fn last_vti(run: &Path) -> PathBuf {
+    std::fs::read_dir(run.join("vtk"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "vti"))
+        .max()
+        .expect("fluid outputs")
+}

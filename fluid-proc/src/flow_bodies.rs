@@ -4,8 +4,9 @@
 
 use coupler::scenario::Scenario;
 use coupler::Monitor;
-use fluid_proc::immersed::{place_markers, ImmersedBody};
+use fluid_proc::immersed::{place_markers, ImmersedBody, RETRACTION};
 use fluid_proc::incompressible::Incompressible;
+use fluid_proc::pressure_force::pressure_load;
 use fluid_proc::surface::Surface;
 use rigid_proc::body::STATE_LEN;
 use rigid_proc::Body;
@@ -121,17 +122,32 @@ impl FlowBodies {
         }
     }
 
-    /// Monitors of each body with a shape: the force from `loads` (NaN
-    /// before the first window).
-    pub fn monitors(&self, loads: Option<&[f64]>) -> Vec<Monitor> {
+    /// Monitors of each body with a shape: the force from `loads`, and the
+    /// pressure force of eq. (2.40) alone (NaN before the first window).
+    pub fn monitors(&self, flow: &Incompressible, loads: Option<&[f64]>) -> Vec<Monitor> {
+        let pressure = loads.map(|_| flow.pressure());
+        let g = flow.grid();
+        let spacing = (0..3)
+            .filter(|&d| g.n[d] > 1)
+            .map(|d| g.h[d])
+            .fold(f64::INFINITY, f64::min);
         let mut out = Vec::new();
-        for (i, (b, s)) in self.bodies.iter().zip(&self.surfaces).enumerate() {
+        let shaped = self.bodies.iter().zip(&self.surfaces).zip(&flow.bodies);
+        for (i, ((b, s), immersed)) in shaped.enumerate() {
             if s.is_none() {
                 continue;
             }
+            let by_pressure = pressure.as_deref().map(|p| {
+                let surface = RETRACTION * spacing;
+                pressure_load(g, p, &immersed.markers, immersed.centre, spacing, surface).0
+            });
             for (d, axis) in ["x", "y", "z"].iter().enumerate() {
                 let v = loads.map_or(f64::NAN, |l| l[6 * i + d]);
                 out.push(Monitor::new(format!("{}_fluid_force_{axis}", b.name), v));
+            }
+            for (d, axis) in ["x", "y", "z"].iter().enumerate() {
+                let v = by_pressure.map_or(f64::NAN, |f| f[d]);
+                out.push(Monitor::new(format!("{}_pressure_force_{axis}", b.name), v));
             }
         }
         out

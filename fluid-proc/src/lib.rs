@@ -15,7 +15,8 @@
 //!     projection on the staggered grid (`mac.rs`).
 //! - Rigid bodies in that flow: markers on their surfaces (`surface.rs`)
 //!   held to the bodies' motion by direct forcing (`immersed.rs`) with
-//!   Peskin's 4-point δ (`delta.rs`).
+//!   Peskin's 4-point δ (`delta.rs`); the pressure force of eq. 2.40 read
+//!   on the fluid's side of their surfaces (`pressure_force.rs`).
 //! - The compressible Euler solver of seed 000 §3.2.1 (`compressible.rs`,
 //!   third-order TVD Runge–Kutta): the ideal gas and its characteristic
 //!   fields (`gas.rs`), the characteristic WENO5 flux along a line
@@ -42,6 +43,7 @@ pub mod mpi_comm;
 pub mod multigrid;
 pub mod padded;
 pub mod poisson;
+pub mod pressure_force;
 pub mod profile;
 pub mod riemann;
 pub mod setup;

@@ -120,7 +120,7 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
         match p.next_command()? {
             Command::Initialize => {
                 let mut m = flow_monitors(&mut flow, StepReport::default(), f64::NAN);
-                m.extend(bodies.monitors(None));
+                m.extend(bodies.monitors(&flow, None));
                 p.done(m)?
             }
             Command::Output { index, time } => {
@@ -174,7 +174,7 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
                     // How far from steady: max|∂u/∂t| over the window [m/s²].
                     let change = flow.u.max_difference(&before) / a.dt;
                     let mut m = flow_monitors(&mut flow, report, change);
-                    m.extend(bodies.monitors(Some(&loads)));
+                    m.extend(bodies.monitors(&flow, Some(&loads)));
                     m
                 } else {
                     Vec::new()

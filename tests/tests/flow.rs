@@ -7,17 +7,6 @@
 
 use canopy_tests::*;
 use coupler::vtu;
-use std::path::{Path, PathBuf};
-
-/// The last `.vti` the fluid wrote into a run directory.
-fn last_vti(run: &Path) -> PathBuf {
-    std::fs::read_dir(run.join("vtk"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "vti"))
-        .max()
-        .expect("fluid outputs")
-}
 
 #[test]
 fn the_c9_set_up_passes_a_uniform_stream_through_unchanged() {
