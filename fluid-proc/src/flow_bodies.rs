@@ -36,10 +36,7 @@ impl FlowBodies {
             .map(Body::from_spec)
             .collect::<Result<Vec<_>, _>>()?;
         let g = flow.grid();
-        let spacing = (0..3)
-            .filter(|&d| g.n[d] > 1)
-            .map(|d| g.h[d])
-            .fold(f64::INFINITY, f64::min);
+        let spacing = g.spacing_range().0;
         let surfaces = bodies
             .iter()
             .map(|b| b.shape.as_ref().map(|s| Surface::of(s, spacing)))
@@ -127,10 +124,7 @@ impl FlowBodies {
     pub fn monitors(&self, flow: &Incompressible, loads: Option<&[f64]>) -> Vec<Monitor> {
         let pressure = loads.map(|_| flow.pressure());
         let g = flow.grid();
-        let spacing = (0..3)
-            .filter(|&d| g.n[d] > 1)
-            .map(|d| g.h[d])
-            .fold(f64::INFINITY, f64::min);
+        let spacing = g.spacing_range().0;
         let mut out = Vec::new();
         let shaped = self.bodies.iter().zip(&self.surfaces).zip(&flow.bodies);
         for (i, ((b, s), immersed)) in shaped.enumerate() {

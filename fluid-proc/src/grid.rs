@@ -66,6 +66,15 @@ impl Grid {
         }
     }
 
+    /// The finest and the coarsest spacing over the axes more than one
+    /// cell thick (a 2-D flow's thin axis left out) [m].
+    pub fn spacing_range(&self) -> (f64, f64) {
+        (0..3)
+            .filter(|&d| self.n[d] > 1)
+            .map(|d| self.h[d])
+            .fold((f64::INFINITY, 0.0), |(lo, hi), h| (lo.min(h), hi.max(h)))
+    }
+
     /// Whether φ is fixed anywhere; if not, it is defined up to a constant.
     pub fn has_dirichlet(&self) -> bool {
         self.bc.iter().flatten().any(|&b| b == Bc::Dirichlet)

@@ -51,11 +51,7 @@ pub fn place_markers(
     grid: &Grid,
     origin: [f64; 3],
 ) -> (Vec<Marker>, f64) {
-    let active: Vec<usize> = (0..3).filter(|&d| grid.n[d] > 1).collect();
-    let spacing = active
-        .iter()
-        .map(|&d| grid.h[d])
-        .fold(f64::INFINITY, f64::min);
+    let spacing = grid.spacing_range().0;
     let placed = Isometry3::translation(-origin[0], -origin[1], -origin[2]) * pose;
     let (mut markers, dimensions) = match (0..3).find(|&d| grid.n[d] == 1) {
         Some(thin) => {
@@ -82,6 +78,12 @@ pub fn place_markers(
 #[derive(Debug, Clone, Default)]
 pub struct ImmersedBody {
     pub markers: Vec<Marker>,
+    /// The velocity each marker moves with [m/s].
+    pub targets: Vec<[f64; 3]>,
+    /// A porous sheet's law, Δp = a·w + b·w|w| [Pa] for the air's velocity
+    /// w through it along the markers' normals relative to the sheet
+    /// (`canopy::porous_law`); None for a body or a closed fabric.
+    pub porous: Option<[f64; 2]>,
     /// Centre of mass [m].
     pub centre: [f64; 3],
     /// Velocity of the centre [m/s].
@@ -122,8 +124,17 @@ impl ImmersedBody {
             velocity,
             spin,
             volume,
+            targets: Vec::new(),
             ..*self
         };
+        self.targets = self.markers.iter().map(|m| self.velocity_at(m.x)).collect();
+    }
+
+    /// Puts an open surface (a canopy) in the flow: markers moving with
+    /// the given velocities, and no fluid inside.
+    pub fn place_sheet(&mut self, markers: Vec<Marker>, targets: Vec<[f64; 3]>) {
+        self.markers = markers;
+        self.targets = targets;
     }
 
     /// The body's velocity at point x: U + ω × (x − c) [m/s].
@@ -216,11 +227,54 @@ impl Reach {
     }
 }
 
+/// How much of a sheet's own spread force its markers read back, per unit
+/// of force per area and spacing: Peskin's Σφ² = 3/8 along the normal
+/// (`delta.rs`), the kernel summing to one along the sheet.
+const SELF_WEIGHT: f64 = 3.0 / 8.0;
+
+/// Each active component's reach from a marker.
+type Reaches = [Option<Reach>; 3];
+
+fn interpolate(u: &Faces, m: &[[usize; 3]; 3], r: &Reaches) -> [f64; 3] {
+    let mut v = [0.0; 3];
+    for c in 0..3 {
+        if let Some(r) = &r[c] {
+            r.for_each(m[c], |f, w| v[c] += w * u.u[c][f]);
+        }
+    }
+    v
+}
+
+impl ImmersedBody {
+    /// Notes momentum per unit density `push` [m⁴/s] given to the fluid at
+    /// x, and its moment about the centre.
+    fn record(&mut self, grid: &Grid, x: [f64; 3], push: [f64; 3]) {
+        // Along a 2-D flow's thin axis nothing varies, so the forcing there
+        // has no moment arm.
+        let r = [0, 1, 2].map(|d| match grid.n[d] {
+            1 => 0.0,
+            _ => x[d] - self.centre[d],
+        });
+        for d in 0..3 {
+            self.impulse[d] += push[d];
+            self.angular[d] +=
+                r[(d + 1) % 3] * push[(d + 2) % 3] - r[(d + 2) % 3] * push[(d + 1) % 3];
+        }
+    }
+}
+
 /// Holds the face velocities `u` to the bodies' motion at their markers
-/// over a step of `dt`, recording on each body what the forcing gave the
-/// fluid. The periodic repeat faces (face n of a periodic axis) are left
-/// for the caller to make equal again.
-pub fn force(grid: &Grid, u: &mut Faces, dt: f64, bodies: &mut [ImmersedBody]) {
+/// over a step of `dt` in a fluid of `density` [kg/m³], recording on each
+/// body what the forcing gave the fluid. The periodic repeat faces (face n
+/// of a periodic axis) are left for the caller to make equal again.
+///
+/// A porous sheet (`ImmersedBody::porous`) is held only along itself;
+/// across it the fabric's drag −Δp(w)·ΔA·n is spread once (eq. 3.25), w
+/// the air's relative normal velocity after the drag acts, from
+/// w + κ(a·w + b·w|w|) = w̃ with w̃ before it and κ = Δt·(3/8)/(ρh), the
+/// sheet's response to its own force (implicit, so a stiff fabric is no
+/// limit on the step; the spread force is Δp(w) whatever κ is).
+pub fn force(grid: &Grid, u: &mut Faces, dt: f64, density: f64, bodies: &mut [&mut ImmersedBody]) {
     let active: Vec<usize> = (0..3).filter(|&d| grid.n[d] > 1).collect();
     // ΔV_k = ΔA_k·h with h the mean spacing across the flow's own axes.
     let spacing = active
@@ -229,50 +283,71 @@ pub fn force(grid: &Grid, u: &mut Faces, dt: f64, bodies: &mut [ImmersedBody]) {
         .product::<f64>()
         .powf(1.0 / active.len() as f64);
     let cell: f64 = grid.h.iter().product();
-    for &c in &active {
+    let m = [0, 1, 2].map(|c| {
         let mut m = grid.n;
         m[c] += 1;
-        let reach: Vec<Vec<Reach>> = bodies
-            .iter()
-            .map(|b| b.markers.iter().map(|k| Reach::new(grid, c, k.x)).collect())
-            .collect();
-        let target: Vec<Vec<f64>> = bodies
-            .iter()
-            .map(|b| b.markers.iter().map(|k| b.velocity_at(k.x)[c]).collect())
-            .collect();
-        let mut push = vec![Vec::new(); bodies.len()];
-        for _ in 0..FORCING_PASSES {
-            // Every marker reads the same field, then all spread (Uhlmann's
-            // explicit forcing), so the order of the markers does not matter.
-            for (b, body) in bodies.iter().enumerate() {
-                push[b].clear();
-                for (k, r) in reach[b].iter().enumerate() {
-                    let mut seen = 0.0;
-                    r.for_each(m, |f, w| seen += w * u.u[c][f]);
-                    // F_k ΔV_k Δt: the momentum per unit density the marker adds.
-                    push[b].push((target[b][k] - seen) * body.markers[k].area * spacing);
-                }
-            }
-            for (b, body) in bodies.iter_mut().enumerate() {
-                for (k, r) in reach[b].iter().enumerate() {
-                    let p = push[b][k];
-                    r.for_each(m, |f, w| u.u[c][f] += p * w / cell);
-                    body.impulse[c] += p;
-                    let x = body.markers[k].x;
-                    // Along a 2-D flow's thin axis nothing varies, so the
-                    // forcing there has no moment arm.
-                    let arm = [0, 1, 2].map(|d| match grid.n[d] {
-                        1 => 0.0,
-                        _ => x[d] - body.centre[d],
-                    });
-                    // arm × p e_c has components arm_{c+2}·p along c + 1
-                    // and −arm_{c+1}·p along c + 2.
-                    let (a, b2) = ((c + 1) % 3, (c + 2) % 3);
-                    body.angular[a] += arm[b2] * p;
-                    body.angular[b2] -= arm[a] * p;
-                }
+        m
+    });
+    let reach: Vec<Vec<Reaches>> = bodies
+        .iter()
+        .map(|b| {
+            b.markers
+                .iter()
+                .map(|k| [0, 1, 2].map(|c| (grid.n[c] > 1).then(|| Reach::new(grid, c, k.x))))
+                .collect()
+        })
+        .collect();
+    let spread = |u: &mut Faces, r: &Reaches, push: [f64; 3]| {
+        for c in 0..3 {
+            if let Some(r) = &r[c] {
+                r.for_each(m[c], |f, w| u.u[c][f] += push[c] * w / cell);
             }
         }
+    };
+    let kappa = dt * SELF_WEIGHT / (density * spacing);
+    // Every marker reads the same field, then all spread (Uhlmann's
+    // explicit forcing), so the order of the markers does not matter.
+    let mut pushes: Vec<Vec<[f64; 3]>> = vec![Vec::new(); bodies.len()];
+    for (b, body) in bodies.iter().enumerate() {
+        let Some([a, bb]) = body.porous else { continue };
+        for ((k, r), v) in body.markers.iter().zip(&reach[b]).zip(&body.targets) {
+            let air = interpolate(u, &m, r);
+            let n = k.normal;
+            let seen: f64 = (0..3).map(|d| (air[d] - v[d]) * n[d]).sum();
+            let linear = 1.0 + kappa * a;
+            let root = (linear * linear + 4.0 * kappa * bb * seen.abs()).sqrt();
+            let w = 2.0 * seen / (linear + root);
+            let drop = a * w + bb * w * w.abs();
+            pushes[b].push(n.map(|n| -dt * drop * n * k.area / density));
+        }
+    }
+    let apply = |pushes: &[Vec<[f64; 3]>], u: &mut Faces, bodies: &mut [&mut ImmersedBody]| {
+        for (b, body) in bodies.iter_mut().enumerate() {
+            for (k, push) in pushes[b].iter().enumerate() {
+                let push = [0, 1, 2].map(|c| if grid.n[c] > 1 { push[c] } else { 0.0 });
+                spread(u, &reach[b][k], push);
+                let x = body.markers[k].x;
+                body.record(grid, x, push);
+            }
+        }
+    };
+    apply(&pushes, u, bodies);
+    for _ in 0..FORCING_PASSES {
+        for (b, body) in bodies.iter().enumerate() {
+            pushes[b].clear();
+            for ((k, r), v) in body.markers.iter().zip(&reach[b]).zip(&body.targets) {
+                let air = interpolate(u, &m, r);
+                let mut e = [0, 1, 2].map(|d| v[d] - air[d]);
+                if body.porous.is_some() {
+                    // Across a porous sheet the drag did the work.
+                    let along: f64 = (0..3).map(|d| e[d] * k.normal[d]).sum();
+                    e = [0, 1, 2].map(|d| e[d] - along * k.normal[d]);
+                }
+                // F_k ΔV_k Δt: the momentum per unit density the marker adds.
+                pushes[b].push(e.map(|e| e * k.area * spacing));
+            }
+        }
+        apply(&pushes, u, bodies);
     }
     for body in bodies.iter_mut() {
         body.duration += dt;

@@ -95,6 +95,8 @@ pub struct Incompressible {
     pub time: f64,
     /// Rigid bodies in the flow (`immersed.rs`), markers in the box's frame.
     pub bodies: Vec<ImmersedBody>,
+    /// The canopy in the flow, an open surface (`canopy.rs`).
+    pub canopy: Option<ImmersedBody>,
 }
 
 impl Incompressible {
@@ -136,6 +138,7 @@ impl Incompressible {
             last_dt: None,
             time: 0.0,
             bodies: Vec::new(),
+            canopy: None,
             setup,
         };
         flow.impose_sides();
@@ -271,10 +274,12 @@ impl Incompressible {
             u.fill_ghosts(sides);
             u.store(&mut self.u);
         }
-        if !self.bodies.is_empty() {
-            // The bodies' forcing acts on u* before the projection, so the
-            // projected field is divergence-free with the bodies in it.
-            force(grid, &mut self.u, dt, &mut self.bodies);
+        let mut forced: Vec<&mut ImmersedBody> =
+            self.bodies.iter_mut().chain(self.canopy.as_mut()).collect();
+        if !forced.is_empty() {
+            // The forcing acts on u* before the projection, so the projected
+            // field is divergence-free with the bodies and canopy in it.
+            force(grid, &mut self.u, dt, self.setup.density, &mut forced);
             self.impose_sides();
         }
         let grid = &self.setup.grid;

@@ -51,8 +51,8 @@ impl Surface {
     pub fn markers(&self, pose: &Isometry3<f64>, spacing: f64) -> Vec<Marker> {
         let mut out = Vec::new();
         for t in &self.triangles {
-            let [a, b, c] = t.map(|i| pose * self.points[i as usize]);
-            split(a, b, c, spacing, &mut out);
+            let corners = t.map(|i| pose * self.points[i as usize]);
+            pieces(corners, spacing, &mut |(_, m)| out.push(m));
         }
         out
     }
@@ -122,33 +122,44 @@ pub fn enclosed_volume(markers: &[Marker], centre: [f64; 3], dimensions: usize) 
     sum / dimensions as f64
 }
 
+/// A piece of a triangle: its centroid's barycentric coordinates in the
+/// whole triangle, and the marker it makes.
+pub type Piece = ([f64; 3], Marker);
+
 /// Cuts triangle abc along its longest edge until every edge is at most
-/// `spacing`, then gives each piece's centroid, normal and area.
-fn split(a: Point3<f64>, b: Point3<f64>, c: Point3<f64>, spacing: f64, out: &mut Vec<Marker>) {
+/// `spacing`, and calls `f` with each piece's centroid (as barycentric
+/// coordinates in abc) and its marker (normal by the vertex order).
+pub fn pieces([a, b, c]: [Point3<f64>; 3], spacing: f64, f: &mut impl FnMut(Piece)) {
+    let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    split([a, b, c], corners, spacing, f);
+}
+
+fn split(p: [Point3<f64>; 3], w: [[f64; 3]; 3], spacing: f64, f: &mut impl FnMut(Piece)) {
+    let [a, b, c] = p;
     let edges = [(b - a).norm(), (c - b).norm(), (a - c).norm()];
     let longest = (0..3)
         .max_by(|&i, &j| edges[i].total_cmp(&edges[j]))
         .unwrap_or(0);
     if edges[longest] > spacing {
-        // Rotate so the longest edge is ab, then cut it at its middle.
-        let (a, b, c) = match longest {
-            0 => (a, b, c),
-            1 => (b, c, a),
-            _ => (c, a, b),
-        };
-        let m = Point3::from((a.coords + b.coords) * 0.5);
-        split(a, m, c, spacing, out);
-        split(m, b, c, spacing, out);
+        // Rotate so the longest edge is the first, then cut it at its middle.
+        let (i, j, k) = (longest, (longest + 1) % 3, (longest + 2) % 3);
+        let m = Point3::from((p[i].coords + p[j].coords) * 0.5);
+        let wm = [0, 1, 2].map(|d| 0.5 * (w[i][d] + w[j][d]));
+        split([p[i], m, p[k]], [w[i], wm, w[k]], spacing, f);
+        split([m, p[j], p[k]], [wm, w[j], w[k]], spacing, f);
         return;
     }
     let cross: Vector3<f64> = (b - a).cross(&(c - a));
-    let area = 0.5 * cross.norm();
     if let Some(n) = cross.try_normalize(1e-300) {
-        out.push(Marker {
-            x: ((a.coords + b.coords + c.coords) / 3.0).into(),
-            normal: n.into(),
-            area,
-        });
+        let centroid = [0, 1, 2].map(|d| (w[0][d] + w[1][d] + w[2][d]) / 3.0);
+        f((
+            centroid,
+            Marker {
+                x: ((a.coords + b.coords + c.coords) / 3.0).into(),
+                normal: n.into(),
+                area: 0.5 * cross.norm(),
+            },
+        ));
     }
 }
 

@@ -1,0 +1,118 @@
+//! The canopy in the flow, on an exact solution: a porous screen across a
+//! stream. A 2-D box, uniform inflow U at x = 0, outflow at p = 0 at x = 2 m,
+//! periodic in y; a fabric sheet at rest spanning the box at x = 1 m. With
+//! no variation along y, continuity keeps u = U everywhere, so the exact
+//! steady flow is the uniform stream, and the pressure drops across the
+//! sheet by the Darcy–Forchheimer law at the stream's speed,
+//! Δp = e(A·v_f + B·v_f²) with v_f = ε·U (seed 003 eqs. 6–9), and is
+//! uniform on either side. The jump read through the index coating
+//! (seed 000 §3.3.2) must give it.
+
+use coupler::scenario::PorousLoad;
+use fluid_proc::canopy::{porous_law, sheet_markers};
+use fluid_proc::coating::Coating;
+use fluid_proc::grid::Grid;
+use fluid_proc::immersed::ImmersedBody;
+use fluid_proc::incompressible::{FlowSetup, Incompressible};
+use fluid_proc::side::{bcs, Side};
+use porous::Porous;
+
+const SPEED: f64 = 1.0;
+const PLACE: f64 = 1.0;
+
+/// The screen's jump per triangle after `steps`, and the largest departure
+/// of the face velocities from the stream [m/s].
+/// The sheet's vertices move at `sheet` [m/s] along x (held in place: only
+/// the velocity relative to the air matters to the law, eq. 10).
+fn screen(law: Option<[f64; 2]>, sheet: f64, steps: usize) -> (Vec<f64>, f64) {
+    let (nx, ny) = (64, 32);
+    let h = 1.0 / ny as f64;
+    let sides = [
+        [Side::Velocity([SPEED, 0.0, 0.0]), Side::Outflow],
+        [Side::Periodic; 2],
+        [Side::Periodic; 2],
+    ];
+    let mut flow = Incompressible::new(FlowSetup {
+        grid: Grid {
+            n: [nx, ny, 1],
+            h: [h; 3],
+            bc: bcs(&sides),
+        },
+        sides,
+        density: 1.2,
+        nu: 1.5e-5,
+    });
+    flow.u.u[0].fill(SPEED);
+    flow.impose_sides();
+    // The sheet: two triangles over the box's y–z section, normal +x.
+    let x = [
+        PLACE, 0.0, 0.0, PLACE, 1.0, 0.0, PLACE, 1.0, h, PLACE, 0.0, h,
+    ];
+    let v: Vec<f64> = (0..12)
+        .map(|i| if i % 3 == 0 { sheet } else { 0.0 })
+        .collect();
+    let triangles = [[0, 1, 2], [0, 2, 3]];
+    let (markers, velocities) = sheet_markers(&x, &v, &triangles, h);
+    let mut fabric = ImmersedBody::default();
+    fabric.place_sheet(markers, velocities);
+    fabric.porous = law;
+    flow.canopy = Some(fabric);
+    let dt = 0.4 * h / SPEED;
+    for _ in 0..steps {
+        flow.step(dt).unwrap();
+    }
+    let coating = Coating::new(flow.grid(), &x, &triangles);
+    let mut jumps = vec![0.0; 2];
+    coating.jumps(flow.grid(), &flow.pressure(), &x, &triangles, &mut jumps);
+    let departure = flow.u.u[0]
+        .iter()
+        .fold(0.0f64, |m, u| m.max((u - SPEED).abs()));
+    (jumps, departure)
+}
+
+/// Darcy–Forchheimer coefficients for ε = 0.5, grain 2 mm, fabric 0.1 mm
+/// thick in air (ρ = 1.2 kg/m³, μ = 1.8·10⁻⁵ Pa·s): about 0.5 Pa at 1 m/s.
+fn fabric() -> Porous {
+    Porous::new(&PorousLoad {
+        free_stream: [0.0; 3],
+        density: 1.2,
+        viscosity: 1.8e-5,
+        porosity: 0.5,
+        diameter: 2e-3,
+        thickness: 1e-4,
+    })
+}
+
+/// The jump equals the law's at the stream's speed to 10⁻⁸ (measured
+/// 10⁻¹³), and the stream is uniform to 10⁻⁸ m/s (measured 2·10⁻¹⁰).
+#[test]
+fn a_porous_screen_drops_the_darcy_forchheimer_pressure() {
+    let fabric = fabric();
+    let exact = fabric.jump(fabric.porosity * SPEED);
+    let (jumps, departure) = screen(Some(porous_law(&fabric)), 0.0, 400);
+    for j in jumps {
+        assert!((j / exact - 1.0).abs() < 1e-8, "jump {j} against {exact}");
+    }
+    assert!(departure < 1e-8 * SPEED, "u departs from U by {departure}");
+}
+
+/// A fabric moving with the stream along its normal at 0.4 U feels only the
+/// 0.6 U through it (seed 003 eq. 10: the air's velocity relative to the
+/// fabric); a closed fabric moving with the whole stream feels nothing.
+#[test]
+fn the_screen_feels_the_air_relative_to_it() {
+    let fabric = fabric();
+    let exact = fabric.jump(fabric.porosity * 0.6 * SPEED);
+    let (jumps, _) = screen(Some(porous_law(&fabric)), 0.4 * SPEED, 400);
+    for j in jumps {
+        assert!((j / exact - 1.0).abs() < 1e-8, "jump {j} against {exact}");
+    }
+    let (jumps, departure) = screen(None, SPEED, 100);
+    for j in jumps {
+        assert!(
+            j.abs() < 1e-10 * exact,
+            "a closed sheet moving with the air: jump {j}"
+        );
+    }
+    assert!(departure < 1e-8 * SPEED, "u departs from U by {departure}");
+}
