@@ -13,7 +13,7 @@
 //! For step 3 the pressure on each side of a triangle is the least-squares
 //! plane through the pressures of that side's coated cells beyond the
 //! forcing's smear (from `NEAR` to `FAR` spacings from the triangle's
-//! plane, within `FAR` of its centre), taken at the centre, so a pressure
+//! plane, within 1.5·`FAR` of its centre), taken at the centre, so a pressure
 //! that varies linearly on each side gives its two limits exactly. The
 //! jump is p⁻ − p⁺, p⁻ on the side the normal points away from: the sign
 //! of `Field::CanopyPressure` (load = jump·area·n).

@@ -36,6 +36,14 @@ impl FlowBodies {
             .map(Body::from_spec)
             .collect::<Result<Vec<_>, _>>()?;
         let g = flow.grid();
+        let thick = (0..3).filter(|&d| g.n[d] > 1).count();
+        if thick < 2 && bodies.iter().any(|b| b.shape.is_some()) {
+            return Err(
+                "a body with a shape needs a flow box more than one cell thick \
+                        along at least two axes (a 2-D or 3-D flow)"
+                    .into(),
+            );
+        }
         let spacing = g.spacing_range().0;
         let surfaces = bodies
             .iter()
@@ -77,13 +85,27 @@ impl FlowBodies {
             self.bodies.iter().zip(&self.surfaces).zip(&mut flow.bodies)
         {
             let Some(surface) = surface else { continue };
-            let (markers, volume) = place_markers(surface, &body.own_pose(), &flow.setup.grid, o);
             let g = &flow.setup.grid;
+            let state = [body.state.x, body.state.v, body.world_angular_velocity()];
+            if state.iter().any(|v| v.iter().any(|c| !c.is_finite())) {
+                return Err(format!(
+                    "body `{}` has a state that is not finite",
+                    body.name
+                ));
+            }
+            let (markers, volume) = place_markers(surface, &body.own_pose(), g, o);
+            if markers.is_empty() {
+                return Err(format!(
+                    "body `{}` does not reach the mid-plane of the 2-D flow box, so the flow \
+                     would not see it: place it across the box's thin axis",
+                    body.name
+                ));
+            }
             for m in &markers {
                 for d in (0..3).filter(|&d| g.bc[d][0] != fluid_proc::grid::Bc::Periodic) {
                     let room = CLEARANCE_CELLS * g.h[d];
                     let length = g.n[d] as f64 * g.h[d];
-                    if m.x[d] < room || m.x[d] > length - room {
+                    if !(room..=length - room).contains(&m.x[d]) {
                         let side = ["low", "high"][(m.x[d] > length / 2.0) as usize];
                         return Err(format!(
                             "body `{}` comes within {CLEARANCE_CELLS} cells of the flow box's {}_{side} side \

@@ -11,6 +11,10 @@
 //!    (eq. 3.25), weighted by the marker's volume ΔV_k = ΔA_k·h;
 //! 3. repeat, so that markers whose kernels overlap agree.
 //!
+//! Spacings: a marker's volume ΔV_k = ΔA_k·h takes h as the geometric mean
+//! of the spacings across the flow's axes (the thin axis of a 2-D flow left
+//! out); markers are cut and retracted by the finest spacing.
+//!
 //! The markers sit 0.3 h inside the surface (Breugem, J. Comput. Phys. 231,
 //! 4469–4498, 2012, §3.4): the kernel smears the forcing over ±2h, which
 //! makes a body act larger than it is, and the retraction undoes it.
@@ -37,7 +41,7 @@ pub const FORCING_PASSES: usize = 4;
 
 /// How far inside the surface the markers sit, in grid spacings (Breugem
 /// 2012 §3.4). Measured on the cylinder at Re = 20 with 15.6 cells across
-/// it: c_D 5.8 % above Schäfer & Turek's without, 1.2 % with.
+/// it: c_D 5.8 % above Schäfer & Turek's without, 1.3 % with.
 pub const RETRACTION: f64 = 0.3;
 
 /// The markers of `surface` placed by `pose` (world ← own) in a box of

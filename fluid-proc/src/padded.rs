@@ -184,7 +184,8 @@ impl Padded {
             } else {
                 (i + 0.5) / lay.m[t] as f64
             };
-            f *= parabola(s);
+            // A ghost line beyond a wall takes the wall's value (zero).
+            f *= parabola(s.clamp(0.0, 1.0));
         }
         f
     }

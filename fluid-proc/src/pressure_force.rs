@@ -6,16 +6,17 @@
 //! The pressure at the surface must come from the fluid's side only: inside
 //! a body, and across the smeared forcing, the grid's pressure is not the
 //! fluid's. As the dissertation's local index coating does for the canopy
-//! (§3.3.2), it is read on the body's own side: sampled outside the
-//! forcing's reach, at 2.5 h and 3.5 h along the outward normal, and
-//! extrapolated linearly to the surface.
+//! (§3.3.2), it is read on the body's own side: sampled at 3 h and 4 h
+//! along the outward normal, where the linear interpolation's cells lie
+//! beyond the δ kernel's two cells from the (retracted) markers, and
+//! extrapolated linearly to the surface. Within 5 cells of a wall the
+//! samples read the wall's cells.
 
 use crate::grid::{Bc, Grid};
 use crate::surface::Marker;
 
-/// Where the pressure is sampled outside the surface, in grid spacings:
-/// beyond the δ kernel's two cells from the (retracted) markers.
-pub const SAMPLES: [f64; 2] = [2.5, 3.5];
+/// Where the pressure is sampled outside the surface, in grid spacings.
+pub const SAMPLES: [f64; 2] = [3.0, 4.0];
 
 /// A cell-centred value at point x (in the box's frame) [same unit],
 /// linear between the nearest cell centres; a point beyond the outermost

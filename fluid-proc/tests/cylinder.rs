@@ -137,8 +137,8 @@ fn cylinder(nx: usize, ny: usize, time: f64) -> Measured {
 /// 1.3 % above (5.9 % above with the markers on the surface rather than
 /// retracted; see `immersed::RETRACTION`). The surface pressure read on
 /// the fluid's side (`pressure_force.rs`) gives their Δp within 5 %
-/// (measured 0.11592, 1.4 % below), and the pressure force of eq. (2.40)
-/// is part of the drag, the friction the rest (measured 3.44 of 5.65).
+/// (measured 0.11632, 1.0 % below), and the pressure force of eq. (2.40)
+/// is part of the drag, the friction the rest (measured 3.45 of 5.65).
 #[test]
 fn drag_of_a_cylinder_at_re_20_matches_schafer_turek() {
     let m = cylinder(352, 64, 4.0);
