@@ -59,10 +59,6 @@ impl FlowBodies {
         Ok(all)
     }
 
-    pub fn is_empty(&self) -> bool {
-        self.bodies.is_empty()
-    }
-
     /// Takes the states rigid-proc sent ([`STATE_LEN`] per body) and puts
     /// the bodies there.
     pub fn read(&mut self, states: &[f64], flow: &mut Incompressible) -> Result<(), String> {

@@ -164,7 +164,8 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
                     }
                     steps += 1;
                 }
-                if !bodies.is_empty() {
+                if p.is_connected(Field::BodyLoads) {
+                    // rigid-proc reads a load every window, bodies or none.
                     bodies.take_loads(&mut flow, &mut loads);
                     p.write_field(Field::BodyLoads, loads.len(), |out| {
                         out.copy_from_slice(&loads)
