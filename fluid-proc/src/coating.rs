@@ -13,13 +13,13 @@
 //! For step 3 the pressure on each side of a triangle is the least-squares
 //! plane through the pressures of that side's coated cells beyond the
 //! forcing's smear (from `NEAR` to `FAR` spacings from the triangle's
-//! plane, within 1.5·`FAR` of its centre), taken at the centre, so a pressure
+//! plane, within `ASIDE` of its centre along it), taken at the centre, so a pressure
 //! that varies linearly on each side gives its two limits exactly. The
 //! jump is p⁻ − p⁺, p⁻ on the side the normal points away from: the sign
 //! of `Field::CanopyPressure` (load = jump·area·n).
 
 use crate::grid::{Grid, Neighbour};
-use nalgebra::{Matrix4, Point3, Vector3, Vector4};
+use nalgebra::{Matrix3, Point3, Vector3};
 use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::Triangle;
 
@@ -31,6 +31,10 @@ pub const SWEEPS: usize = 3;
 pub const NEAR: f64 = 2.0;
 /// The farthest, in spacings.
 pub const FAR: f64 = 4.5;
+/// How far along the canopy from the triangle's centre, in spacings: the
+/// δ kernel smears the jump over two cells along the canopy too, so near
+/// an edge the jump read from cells this far away is smeared little more.
+pub const ASIDE: f64 = 1.5;
 
 /// Each cell's side of the canopy: −1, +1, or 0 where no side is told.
 #[derive(Debug, Clone)]
@@ -158,38 +162,47 @@ impl Coating {
         let c = Point3::from((q[0].coords + q[1].coords + q[2].coords) / 3.0);
         let h = grid.spacing_range().1;
         let thin: Vec<usize> = (0..3).filter(|&d| grid.n[d] == 1).collect();
-        // Normal equations of p ≈ p₀ + g·(x − c); a 2-D flow has no
-        // gradient along its thin axis.
-        let mut a = Matrix4::<f64>::zeros();
-        let mut b = Vector4::<f64>::zeros();
+        // Least squares of p ≈ p̄ + g·(x − x̄) about the cells' centroid x̄,
+        // offsets in spacings; a 2-D flow has no gradient along its thin axis.
+        let mut sum_r = Vector3::<f64>::zeros();
+        let mut sum_rr = Matrix3::<f64>::zeros();
+        let mut sum_rp = Vector3::<f64>::zeros();
+        let mut sum_p = 0.0;
         let mut count = 0;
         let cc = c.coords.into();
         for_cells_near(grid, cc, cc, FAR * h, |cell, centre| {
             if self.side[cell] != s {
                 return;
             }
-            let mut r: Vector3<f64> = centre - c;
+            let mut r: Vector3<f64> = (centre - c) / h;
             for &d in &thin {
                 r[d] = 0.0;
             }
             let off = r.dot(&n) * s as f64;
-            if off < NEAR * h || off > FAR * h || r.norm() > FAR * h * 1.5 {
+            let aside = (r - n * r.dot(&n)).norm();
+            if !(NEAR..=FAR).contains(&off) || aside > ASIDE {
                 return;
             }
-            let row = Vector4::new(1.0, r[0], r[1], r[2]);
-            a += row * row.transpose();
-            b += row * p[cell];
+            sum_r += r;
+            sum_rr += r * r.transpose();
+            sum_rp += r * p[cell];
+            sum_p += p[cell];
             count += 1;
         });
         let dims = 3 - thin.len();
         if count < dims + 1 {
             return None;
         }
-        // The thin axis's unknown is pinned to zero.
-        for &d in &thin {
-            a[(d + 1, d + 1)] = 1.0;
-        }
-        a.lu().solve(&b).map(|g| g[0])
+        let k = count as f64;
+        let (mean_r, mean_p) = (sum_r / k, sum_p / k);
+        let spread = sum_rr - mean_r * sum_r.transpose();
+        let covary = sum_rp - mean_r * sum_p;
+        // Directions the cells hardly spread along (a 2-D flow's thin axis,
+        // or cells in one plane) get no gradient: the pseudo-inverse.
+        let svd = spread.svd(true, true);
+        let cutoff = 1e-2 * svd.singular_values.max();
+        let g = svd.solve(&covary, cutoff).ok()?;
+        Some(mean_p - g.dot(&mean_r))
     }
 
     /// The jump p⁻ − p⁺ across every triangle [Pa] into `out`; 0 where a

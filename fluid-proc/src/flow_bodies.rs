@@ -2,6 +2,7 @@
 //! shapes' markers placed at the poses rigid-proc sends every window, and
 //! the fluid's load on each sent back (`immersed.rs` does the physics).
 
+use crate::clearance::keep_clear;
 use coupler::scenario::Scenario;
 use coupler::Monitor;
 use fluid_proc::immersed::{place_markers, ImmersedBody, RETRACTION};
@@ -10,10 +11,6 @@ use fluid_proc::pressure_force::pressure_load;
 use fluid_proc::surface::Surface;
 use rigid_proc::body::STATE_LEN;
 use rigid_proc::Body;
-
-/// Cells a body's markers must keep from a side that is not periodic: the
-/// δ kernel reaches two cells, and the side's face is given, not forced.
-const CLEARANCE_CELLS: f64 = 3.0;
 
 pub struct FlowBodies {
     bodies: Vec<Body>,
@@ -97,23 +94,7 @@ impl FlowBodies {
                     body.name
                 ));
             }
-            for m in &markers {
-                for d in (0..3).filter(|&d| g.bc[d][0] != fluid_proc::grid::Bc::Periodic) {
-                    let room = CLEARANCE_CELLS * g.h[d];
-                    let length = g.n[d] as f64 * g.h[d];
-                    if !(room..=length - room).contains(&m.x[d]) {
-                        let side = ["low", "high"][(m.x[d] > length / 2.0) as usize];
-                        return Err(format!(
-                            "body `{}` comes within {CLEARANCE_CELLS} cells of the flow box's {}_{side} side \
-                             (at {:.4} m): the immersed boundary needs fluid round the body, so enlarge \
-                             [fluid.box] or move the body",
-                            body.name,
-                            ["x", "y", "z"][d],
-                            m.x[d] + o[d]
-                        ));
-                    }
-                }
-            }
+            keep_clear(g, &markers, o, &format!("body `{}`", body.name))?;
             let x = body.state.x;
             immersed.place(
                 markers,

@@ -88,6 +88,8 @@ pub struct ImmersedBody {
     /// w through it along the markers' normals relative to the sheet
     /// (`canopy::porous_law`); None for a body or a closed fabric.
     pub porous: Option<[f64; 2]>,
+    /// An open sheet (`place_sheet`): the air slips along it.
+    sheet: bool,
     /// Centre of mass [m].
     pub centre: [f64; 3],
     /// Velocity of the centre [m/s].
@@ -135,10 +137,11 @@ impl ImmersedBody {
     }
 
     /// Puts an open surface (a canopy) in the flow: markers moving with
-    /// the given velocities, and no fluid inside.
+    /// the given velocities, and no fluid inside. The air slips along it.
     pub fn place_sheet(&mut self, markers: Vec<Marker>, targets: Vec<[f64; 3]>) {
         self.markers = markers;
         self.targets = targets;
+        self.sheet = true;
     }
 
     /// The body's velocity at point x: U + ω × (x − c) [m/s].
@@ -272,8 +275,12 @@ impl ImmersedBody {
 /// body what the forcing gave the fluid. The periodic repeat faces (face n
 /// of a periodic axis) are left for the caller to make equal again.
 ///
-/// A porous sheet (`ImmersedBody::porous`) is held only along itself;
-/// across it the fabric's drag −Δp(w)·ΔA·n is spread once (eq. 3.25), w
+/// A sheet (`ImmersedBody::place_sheet`) is a fabric, whose load is the
+/// pressure jump across it, a normal force: by Newton's third law the air
+/// gets only a normal force back, and slips along the sheet. A closed sheet
+/// holds the air's normal velocity to its own. Across a porous sheet
+/// (`ImmersedBody::porous`) the fabric's drag −Δp(w)·ΔA·n is spread once
+/// (eq. 3.25), w
 /// the air's relative normal velocity after the drag acts, from
 /// w + κ(a·w + b·w|w|) = w̃ with w̃ before it and κ = Δt·(3/8)/(ρh), the
 /// sheet's response to its own force (implicit, so a stiff fabric is no
@@ -339,13 +346,16 @@ pub fn force(grid: &Grid, u: &mut Faces, dt: f64, density: f64, bodies: &mut [&m
     for _ in 0..FORCING_PASSES {
         for (b, body) in bodies.iter().enumerate() {
             pushes[b].clear();
+            if body.porous.is_some() {
+                // Across a porous sheet the drag did the work.
+                continue;
+            }
             for ((k, r), v) in body.markers.iter().zip(&reach[b]).zip(&body.targets) {
                 let air = interpolate(u, &m, r);
                 let mut e = [0, 1, 2].map(|d| v[d] - air[d]);
-                if body.porous.is_some() {
-                    // Across a porous sheet the drag did the work.
-                    let along: f64 = (0..3).map(|d| e[d] * k.normal[d]).sum();
-                    e = [0, 1, 2].map(|d| e[d] - along * k.normal[d]);
+                if body.sheet {
+                    let across: f64 = (0..3).map(|d| e[d] * k.normal[d]).sum();
+                    e = k.normal.map(|n| across * n);
                 }
                 // F_k ΔV_k Δt: the momentum per unit density the marker adds.
                 pushes[b].push(e.map(|e| e * k.area * spacing));

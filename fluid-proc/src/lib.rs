@@ -67,3 +67,14 @@ pub fn triangles_from_field(field: &[f64]) -> Vec<[usize; 3]> {
         .map(|t| [t[0] as usize, t[1] as usize, t[2] as usize])
         .collect()
 }
+
+/// An error naming the first triangle with a vertex beyond the `nodes`
+/// whose positions were sent.
+pub fn check_triangles(triangles: &[[usize; 3]], nodes: usize) -> Result<(), String> {
+    match triangles.iter().find(|t| t.iter().any(|&i| i >= nodes)) {
+        Some(t) => Err(format!(
+            "canopy triangle {t:?} names a vertex beyond the {nodes} sent"
+        )),
+        None => Ok(()),
+    }
+}

@@ -7,12 +7,15 @@ use coupler::{Command, Field, Monitor, Participant, Role};
 use fluid_proc::comm::Single;
 use fluid_proc::incompressible::{Incompressible, StepReport};
 use fluid_proc::setup::flow_from;
-use fluid_proc::{triangles_from_field, Porous};
+use fluid_proc::{check_triangles, triangles_from_field, Porous};
 
+mod clearance;
 mod flow_bodies;
+mod flow_canopy;
 mod gas_run;
 
 use flow_bodies::FlowBodies;
+use flow_canopy::FlowCanopy;
 
 type Error = Box<dyn std::error::Error>;
 
@@ -79,10 +82,7 @@ fn run_porous(p: &mut Participant, section: &FluidSection) -> Result<u64, Error>
                 }
                 let tris = triangles.as_deref().unwrap_or(&[]);
                 let x = p.read_field(Field::CanopyPositions)?;
-                let nodes = x.len() / 3;
-                if let Some(t) = tris.iter().find(|t| t.iter().any(|&i| i >= nodes)) {
-                    let msg =
-                        format!("canopy triangle {t:?} names a vertex beyond the {nodes} sent");
+                if let Err(msg) = check_triangles(tris, x.len() / 3) {
                     p.fail(msg.clone())?;
                     return Err(msg.into());
                 }
@@ -112,6 +112,8 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
     let mut flow = flow_from(section).ok_or("[fluid] has no box")?;
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
     let mut bodies = FlowBodies::new(p.scenario(), &mut flow, origin)?;
+    let mut canopy = FlowCanopy::new(section, origin);
+    let with_canopy = p.is_connected(Field::CanopyPositions);
     let mut loads = vec![0.0; 6 * flow.bodies.len()];
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
@@ -121,6 +123,9 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
             Command::Initialize => {
                 let mut m = flow_monitors(&mut flow, StepReport::default(), f64::NAN);
                 m.extend(bodies.monitors(&flow, None));
+                if with_canopy {
+                    m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
+                }
                 p.done(m)?
             }
             Command::Output { index, time } => {
@@ -149,6 +154,19 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
                         return Err(msg.into());
                     }
                 }
+                if with_canopy {
+                    // The canopy where the structure left it at the window's start.
+                    if canopy.needs_triangles() {
+                        canopy.set_triangles(&p.read_field(Field::CanopyTriangles)?);
+                    }
+                    let x = p.read_field(Field::CanopyPositions)?;
+                    let v = p.read_field(Field::CanopyVelocities)?;
+                    if let Err(e) = canopy.place(&x, &v, &mut flow) {
+                        let msg = format!("at t = {} s: {e}", flow.time);
+                        p.fail(msg.clone())?;
+                        return Err(msg.into());
+                    }
+                }
                 before.clone_from(&flow.u);
                 let n = a.substeps.max(1);
                 let dt = a.dt / n as f64;
@@ -171,11 +189,20 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
                         out.copy_from_slice(&loads)
                     })?;
                 }
+                if p.is_connected(Field::CanopyPressure) {
+                    let jumps = canopy.jumps(&flow);
+                    p.write_field(Field::CanopyPressure, jumps.len(), |out| {
+                        out.copy_from_slice(jumps)
+                    })?;
+                }
                 let m = if a.window_end {
                     // How far from steady: max|∂u/∂t| over the window [m/s²].
                     let change = flow.u.max_difference(&before) / a.dt;
                     let mut m = flow_monitors(&mut flow, report, change);
                     m.extend(bodies.monitors(&flow, Some(&loads)));
+                    if with_canopy {
+                        m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
+                    }
                     m
                 } else {
                     Vec::new()

@@ -3,7 +3,8 @@
 //!   eqs. (6)–(10) in a uniform stream, whose keys [`PorousLoad`] also gives
 //!   to `[structure.porous]`;
 //! - `incompressible`: the Navier–Stokes solver of seed 000 §3.2.2 on a box
-//!   of cells (`flow.rs`: `[fluid.box]`, `[fluid.sides]`);
+//!   of cells (`flow.rs`: `[fluid.box]`, `[fluid.sides]`), with the canopy
+//!   in it, porous with the fabric keys of [`FluidSection::fabric`];
 //! - `euler`: the compressible Euler solver of seed 000 §3.2.1 on the same
 //!   box (`gas.rs`: `gamma`, `cfl`, `[[fluid.regions]]`).
 
@@ -40,7 +41,16 @@ const MODEL_KEYS: [(FluidModel, &[&str], &[&str]); 3] = [
     ),
     (
         FluidModel::Incompressible,
-        &["density", "viscosity", "box", "sides", "initial_velocity"],
+        &[
+            "density",
+            "viscosity",
+            "box",
+            "sides",
+            "initial_velocity",
+            "porosity",
+            "diameter",
+            "thickness",
+        ],
         &["box"],
     ),
     (
@@ -93,13 +103,16 @@ pub struct FluidSection {
     /// Free-stream velocity of the air [m/s] (porous-free-stream).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub free_stream: Option<[f64; 3]>,
-    /// Fabric porosity ε (0 < ε < 1), seed 003 eqs. (7)–(9) (porous-free-stream).
+    /// Fabric porosity ε (0 < ε < 1), seed 003 eqs. (7)–(9) (porous-free-stream;
+    /// optional for incompressible, with `diameter` and `thickness`: a porous canopy).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub porosity: Option<f64>,
-    /// Characteristic (Ergun) diameter D [m], seed 003 eqs. (7)–(8) (porous-free-stream).
+    /// Characteristic (Ergun) diameter D [m], seed 003 eqs. (7)–(8) (porous-free-stream;
+    /// incompressible, with `porosity`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diameter: Option<f64>,
-    /// Fabric thickness e [m], seed 003 eq. (6) (porous-free-stream).
+    /// Fabric thickness e [m], seed 003 eq. (6) (porous-free-stream;
+    /// incompressible, with `porosity`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub thickness: Option<f64>,
     /// The box of cells (incompressible).
@@ -128,8 +141,20 @@ impl FluidSection {
     /// load (None when one of them is missing, which `check` refuses for
     /// that model).
     pub fn porous_load(&self) -> Option<PorousLoad> {
+        let free_stream = self.free_stream?;
         Some(PorousLoad {
-            free_stream: self.free_stream?,
+            free_stream,
+            ..self.fabric()?
+        })
+    }
+
+    /// The fabric's keys (porosity, diameter, thickness) with the air's
+    /// density and viscosity, in still air: the incompressible model's
+    /// porous canopy takes its law from them and the air's velocity from
+    /// its flow field. None unless all three are given.
+    pub fn fabric(&self) -> Option<PorousLoad> {
+        Some(PorousLoad {
+            free_stream: [0.0; 3],
             density: self.density(),
             viscosity: self.viscosity(),
             porosity: self.porosity?,
@@ -215,7 +240,26 @@ impl FluidSection {
                     format!("model = \"{model}\" needs the key `{key}` in [fluid]"),
                 );
             }
-            if let Some(load) = self.porous_load() {
+            let fabric = [self.porosity, self.diameter, self.thickness];
+            let some = fabric.iter().filter(|k| k.is_some()).count();
+            if self.model == FluidModel::Incompressible && (1..3).contains(&some) {
+                let keys = ["porosity", "diameter", "thickness"];
+                let at = |given: bool| {
+                    keys[fabric
+                        .iter()
+                        .position(|k| k.is_some() == given)
+                        .unwrap_or(0)]
+                };
+                let missing = at(false);
+                c.problem(
+                    &[at(true)],
+                    format!(
+                        "porosity, diameter and thickness make the canopy's fabric porous \
+                         together: give `{missing}` too, or none of them for a closed fabric"
+                    ),
+                );
+            }
+            if let Some(load) = self.porous_load().or(self.fabric()) {
                 load.check(c);
             }
             c.positive(&["density"], self.density(), "kg/m³");

@@ -321,28 +321,27 @@ impl Scenario {
         }
         if let Some(s) = &self.fluid {
             s.check(c);
-            // The incompressible flow takes rigid bodies (immersed
-            // boundaries); a canopy in a flow field is not coupled yet.
-            let partners = match s.model {
-                fluid::FluidModel::PorousFreeStream => None,
-                fluid::FluidModel::Incompressible => self
-                    .participants
-                    .structure
-                    .is_some()
-                    .then_some("a structure"),
-                fluid::FluidModel::Euler => (self.participants.structure.is_some()
-                    || self.participants.rigid.is_some())
-                .then_some("a structure or rigid bodies"),
-            };
-            if let Some(partners) = partners {
+            // The incompressible flow takes the canopy and rigid bodies
+            // (immersed boundaries); the gas takes neither yet.
+            let coupled =
+                self.participants.structure.is_some() || self.participants.rigid.is_some();
+            if s.model == fluid::FluidModel::Euler && coupled {
                 c.problem(
                     &["fluid", "model"],
-                    format!(
-                        "model = \"{}\" is not coupled to {partners} yet: use model = \
-                         \"porous-free-stream\" for such a scene (model = \"incompressible\" \
-                         takes rigid bodies)",
-                        s.model.name()
-                    ),
+                    "model = \"euler\" is not coupled to a structure or rigid bodies yet: use \
+                     model = \"incompressible\" or \"porous-free-stream\" for such a scene"
+                        .into(),
+                );
+            }
+            if s.model == fluid::FluidModel::Incompressible
+                && s.porosity.is_some()
+                && self.participants.structure.is_none()
+            {
+                c.problem(
+                    &["fluid", "porosity"],
+                    "porosity, diameter and thickness describe the canopy's fabric, but no \
+                     participant `structure` sends a canopy: list one, or leave the keys out"
+                        .into(),
                 );
             }
             let ranks = self.participants.fluid.as_ref().map_or(1, |f| f.ranks());

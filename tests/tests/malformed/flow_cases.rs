@@ -31,11 +31,35 @@ pub const CASES: &[Case] = &[
         line_of: Some("x_low = \"periodic\""),
     },
     Case {
-        name: "flow-porous-key",
+        name: "flow-fabric-incomplete",
         edit: |_| cavity_with("viscosity = 0.01", "porosity = 0.5\nviscosity = 0.01"),
         key: Some("fluid.porosity"),
-        says: "porosity is not a key of model = \"incompressible\"",
+        says: "give `diameter` too",
         line_of: Some("porosity = 0.5"),
+    },
+    Case {
+        name: "flow-fabric-without-canopy",
+        edit: |_| {
+            cavity_with(
+                "viscosity = 0.01",
+                "porosity = 0.5\ndiameter = 7e-3\nthickness = 1e-4\nviscosity = 0.01",
+            )
+        },
+        key: Some("fluid.porosity"),
+        says: "no participant `structure` sends a canopy",
+        line_of: Some("porosity = 0.5"),
+    },
+    Case {
+        name: "flow-free-stream-key",
+        edit: |_| {
+            cavity_with(
+                "viscosity = 0.01",
+                "free_stream = [0.0, 0.0, 1.0]\nviscosity = 0.01",
+            )
+        },
+        key: Some("fluid.free_stream"),
+        says: "free_stream is not a key of model = \"incompressible\"",
+        line_of: Some("free_stream = [0.0"),
     },
     Case {
         name: "flow-needs-box",

@@ -1,0 +1,116 @@
+//! The structure's canopy as the incompressible flow sees it: its
+//! triangles (sent once), placed every window where the structure left
+//! them, and the pressure jump on each sent back (`canopy.rs`,
+//! `immersed.rs` and `coating.rs` do the physics).
+
+use crate::clearance::keep_clear;
+use coupler::scenario::FluidSection;
+use fluid_proc::canopy::{porous_law, sheet_markers};
+use fluid_proc::coating::Coating;
+use fluid_proc::immersed::ImmersedBody;
+use fluid_proc::incompressible::Incompressible;
+use fluid_proc::{check_triangles, triangles_from_field, Porous};
+
+pub struct FlowCanopy {
+    triangles: Option<Vec<[usize; 3]>>,
+    /// The fabric's law (`canopy::porous_law`); None for a closed fabric.
+    law: Option<[f64; 2]>,
+    /// The box's low corner in the world [m].
+    origin: [f64; 3],
+    /// The vertices where they were last placed, in the box's frame [m].
+    x: Vec<f64>,
+    jumps: Vec<f64>,
+}
+
+impl FlowCanopy {
+    /// A canopy of the fabric `[fluid]` describes: porous with its
+    /// `porosity`, `diameter` and `thickness`, closed without them.
+    pub fn new(section: &FluidSection, origin: [f64; 3]) -> FlowCanopy {
+        FlowCanopy {
+            triangles: None,
+            law: section.fabric().map(|f| porous_law(&Porous::new(&f))),
+            origin,
+            x: Vec::new(),
+            jumps: Vec::new(),
+        }
+    }
+
+    /// Whether the connectivity, which the structure sends once, is still
+    /// to be read.
+    pub fn needs_triangles(&self) -> bool {
+        self.triangles.is_none()
+    }
+
+    pub fn set_triangles(&mut self, field: &[f64]) {
+        self.triangles = Some(triangles_from_field(field));
+    }
+
+    /// Puts the canopy in `flow` at the vertices' world positions `x`
+    /// moving with velocities `v` (xyz per vertex).
+    pub fn place(&mut self, x: &[f64], v: &[f64], flow: &mut Incompressible) -> Result<(), String> {
+        let triangles = self.triangles.as_deref().unwrap_or(&[]);
+        check_triangles(triangles, x.len() / 3)?;
+        if x.len() != v.len() {
+            return Err(format!(
+                "the structure sent {} canopy positions and {} velocities",
+                x.len(),
+                v.len()
+            ));
+        }
+        if x.iter().chain(v).any(|c| !c.is_finite()) {
+            return Err("the canopy's positions or velocities are not finite".into());
+        }
+        self.x.clear();
+        self.x
+            .extend(x.iter().enumerate().map(|(i, c)| c - self.origin[i % 3]));
+        let g = flow.grid();
+        // A 2-D flow has no depth to resolve: the canopy must span the box's
+        // one cell along its thin axis, each marker acting across it.
+        for d in (0..3).filter(|&d| g.n[d] == 1) {
+            let depth = g.h[d];
+            let slack = 1e-9 * depth;
+            if let Some(c) = self
+                .x
+                .iter()
+                .skip(d)
+                .step_by(3)
+                .find(|&&c| !(-slack..=depth + slack).contains(&c))
+            {
+                return Err(format!(
+                    "a canopy vertex lies at {} = {:.4} m, outside the 2-D flow box's depth: a \
+                     canopy in a 2-D flow must span the box's one cell along {}",
+                    ["x", "y", "z"][d],
+                    c + self.origin[d],
+                    ["x", "y", "z"][d]
+                ));
+            }
+        }
+        let (markers, velocities) = sheet_markers(&self.x, v, triangles, g.spacing_range().0);
+        keep_clear(g, &markers, self.origin, "the canopy")?;
+        let canopy = flow.canopy.get_or_insert_with(ImmersedBody::default);
+        canopy.porous = self.law;
+        canopy.place_sheet(markers, velocities);
+        Ok(())
+    }
+
+    /// The pressure jump p⁻ − p⁺ across each triangle where it was last
+    /// placed [Pa] (seed 000 §3.3.2; the load is jump·area·n, n the normal
+    /// of the vertex order).
+    pub fn jumps(&mut self, flow: &Incompressible) -> &[f64] {
+        let triangles = self.triangles.as_deref().unwrap_or(&[]);
+        let g = flow.grid();
+        self.jumps.resize(triangles.len(), 0.0);
+        let coating = Coating::new(g, &self.x, triangles);
+        coating.jumps(g, &flow.pressure(), &self.x, triangles, &mut self.jumps);
+        &self.jumps
+    }
+
+    /// The mean jump over the triangles [Pa], as the porous free-stream
+    /// model reports it; NaN before any.
+    pub fn mean_jump(&self) -> f64 {
+        if self.jumps.is_empty() {
+            return f64::NAN;
+        }
+        self.jumps.iter().sum::<f64>() / self.jumps.len() as f64
+    }
+}
