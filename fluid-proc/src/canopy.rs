@@ -2,11 +2,13 @@
 //! triangles the structure moves. Each window:
 //! 1. markers about one cell apart on its triangles take the fabric's
 //!    velocity, interpolated from the vertices (`sheet_markers`);
-//! 2. the flow holds the air there to the fabric (`immersed.rs`: direct
-//!    forcing with Peskin's δ, eq. 3.25, the fabric's reaction spread to the
-//!    grid and the grid's velocity interpolated to it) — all of it for a
-//!    closed fabric, and across a porous one only what the
-//!    Darcy–Forchheimer law of seed 003 eqs. (6)–(10) lets through;
+//! 2. the flow holds the air's normal velocity there to the fabric's
+//!    (`immersed.rs`: direct forcing with Peskin's δ, eq. 3.25, the
+//!    fabric's reaction spread to the grid and the grid's velocity
+//!    interpolated to it) — all of it for a closed fabric, and for a porous
+//!    one only what the Darcy–Forchheimer law of seed 003 eqs. (6)–(10)
+//!    lets through; along the fabric the air slips, as the structure takes
+//!    only the normal jump;
 //! 3. the pressure jump on each triangle is read side by side through the
 //!    local index coating (`coating.rs`, §3.3.2) and sent to the structure.
 

@@ -48,7 +48,8 @@ fn corners(x: &[f64], t: &[usize; 3]) -> [Point3<f64>; 3] {
 }
 
 /// The cell centres within `reach` of the box [lo, hi], by index ranges
-/// (wrapping round periodic axes; clipped elsewhere), and `f(cell, centre)`.
+/// (wrapping round periodic axes; clipped elsewhere; a 2-D flow's one cell
+/// along its thin axis once), and `f(cell, centre)`.
 fn for_cells_near(
     grid: &Grid,
     lo: [f64; 3],
@@ -57,6 +58,9 @@ fn for_cells_near(
     mut f: impl FnMut(usize, Point3<f64>),
 ) {
     let range = [0, 1, 2].map(|d| {
+        if grid.n[d] == 1 {
+            return (0, 0);
+        }
         let h = grid.h[d];
         let first = ((lo[d] - reach) / h - 0.5).ceil() as i64;
         let last = ((hi[d] + reach) / h - 0.5).floor() as i64;
@@ -170,7 +174,7 @@ impl Coating {
         let mut sum_p = 0.0;
         let mut count = 0;
         let cc = c.coords.into();
-        for_cells_near(grid, cc, cc, FAR * h, |cell, centre| {
+        for_cells_near(grid, cc, cc, FAR.hypot(ASIDE) * h, |cell, centre| {
             if self.side[cell] != s {
                 return;
             }
@@ -197,10 +201,14 @@ impl Coating {
         let (mean_r, mean_p) = (sum_r / k, sum_p / k);
         let spread = sum_rr - mean_r * sum_r.transpose();
         let covary = sum_rp - mean_r * sum_p;
-        // Directions the cells hardly spread along (a 2-D flow's thin axis,
-        // or cells in one plane) get no gradient: the pseudo-inverse.
+        // Directions the cells hardly spread along (a 2-D flow's thin axis)
+        // get no gradient: the pseudo-inverse. Cells that do not spread
+        // along the normal cannot be extrapolated to the sheet: none.
         let svd = spread.svd(true, true);
         let cutoff = 1e-2 * svd.singular_values.max();
+        if !(n.dot(&(spread * n)) > cutoff) {
+            return None;
+        }
         let g = svd.solve(&covary, cutoff).ok()?;
         Some(mean_p - g.dot(&mean_r))
     }

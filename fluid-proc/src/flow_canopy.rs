@@ -49,6 +49,12 @@ impl FlowCanopy {
     /// moving with velocities `v` (xyz per vertex).
     pub fn place(&mut self, x: &[f64], v: &[f64], flow: &mut Incompressible) -> Result<(), String> {
         let triangles = self.triangles.as_deref().unwrap_or(&[]);
+        if x.len() % 3 != 0 {
+            return Err(format!(
+                "the structure sent {} canopy coordinates, not three per vertex",
+                x.len()
+            ));
+        }
         check_triangles(triangles, x.len() / 3)?;
         if x.len() != v.len() {
             return Err(format!(
@@ -69,19 +75,20 @@ impl FlowCanopy {
         for d in (0..3).filter(|&d| g.n[d] == 1) {
             let depth = g.h[d];
             let slack = 1e-9 * depth;
-            if let Some(c) = self
-                .x
-                .iter()
-                .skip(d)
-                .step_by(3)
-                .find(|&&c| !(-slack..=depth + slack).contains(&c))
-            {
+            let along = self.x.iter().skip(d).step_by(3);
+            let (lo, hi) = along.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &c| {
+                (lo.min(c), hi.max(c))
+            });
+            if !self.x.is_empty() && (lo.abs() > slack || (hi - depth).abs() > slack) {
+                let axis = ["x", "y", "z"][d];
                 return Err(format!(
-                    "a canopy vertex lies at {} = {:.4} m, outside the 2-D flow box's depth: a \
-                     canopy in a 2-D flow must span the box's one cell along {}",
-                    ["x", "y", "z"][d],
-                    c + self.origin[d],
-                    ["x", "y", "z"][d]
+                    "the canopy spans {axis} = {:.4} to {:.4} m, not the 2-D flow box's depth \
+                     {:.4} to {:.4} m: a canopy in a 2-D flow must span the box's one cell \
+                     along {axis}",
+                    lo + self.origin[d],
+                    hi + self.origin[d],
+                    self.origin[d],
+                    depth + self.origin[d],
                 ));
             }
         }

@@ -17,10 +17,10 @@
 //!   held to the bodies' motion by direct forcing (`immersed.rs`) with
 //!   Peskin's 4-point δ (`delta.rs`); the pressure force of eq. 2.40 read
 //!   on the fluid's side of their surfaces (`pressure_force.rs`).
-//! - The canopy in that flow (`canopy.rs`): an open surface held to the
-//!   fabric's motion (or, porous, letting through what the Darcy–Forchheimer
-//!   law allows), its pressure jump read side by side through the local
-//!   index coating (`coating.rs`).
+//! - The canopy in that flow (`canopy.rs`): an open surface the air slips
+//!   along, held to the fabric's normal velocity (or, porous, letting
+//!   through what the Darcy–Forchheimer law allows), its pressure jump read
+//!   side by side through the local index coating (`coating.rs`).
 //! - The compressible Euler solver of seed 000 §3.2.1 (`compressible.rs`,
 //!   third-order TVD Runge–Kutta): the ideal gas and its characteristic
 //!   fields (`gas.rs`), the characteristic WENO5 flux along a line

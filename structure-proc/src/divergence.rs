@@ -26,8 +26,9 @@ pub struct Watch {
 
 impl Watch {
     /// The largest of: the fastest node at the start, the speed the initial
-    /// elastic energy would give the lightest free node, √(2E/m_min), the free
-    /// stream (of `[fluid]` or `[structure.porous]`), the speed that gravity
+    /// elastic energy would give the lightest free node, √(2E/m_min), the
+    /// free stream (of `[fluid]` or `[structure.porous]`), the flow box's
+    /// sides and initial velocity, the speed that gravity
     /// gives in the whole run, |g|·(t_end − t₀), and [`MIN_SPEED_SCALE`].
     pub fn new(m: &Model, scenario: &Scenario) -> Watch {
         let mut w = Watch {
@@ -39,6 +40,9 @@ impl Watch {
         let stream = |u: [f64; 3]| u.iter().map(|c| c * c).sum::<f64>().sqrt();
         if let Some(u) = scenario.fluid.as_ref().and_then(|f| f.free_stream) {
             w.raise(stream(u), "the free stream");
+        }
+        for u in scenario.fluid.iter().flat_map(|f| f.given_velocities()) {
+            w.raise(stream(u), "the flow's fastest side or initial velocity");
         }
         if let Some(p) = &m.porous {
             w.raise(stream(p.free_stream), "the free stream");

@@ -197,14 +197,18 @@ impl FluidSection {
             return None;
         }
         let h = self.flow_box?.spacing();
-        let sides = self.resolved_sides()?;
         let courant = |v: [f64; 3]| (0..3).map(|a| v[a].abs() * dt / h[a]).sum::<f64>();
-        Some(
-            FlowSides::velocities(&sides)
-                .chain(self.initial_velocity)
-                .map(courant)
-                .fold(0.0, f64::max),
-        )
+        Some(self.given_velocities().map(courant).fold(0.0, f64::max))
+    }
+
+    /// The velocities the flow box's air is given [m/s]: the sides' and the
+    /// initial velocity.
+    pub fn given_velocities(&self) -> impl Iterator<Item = [f64; 3]> {
+        let sides = self.resolved_sides();
+        let from_sides: Vec<[f64; 3]> = sides
+            .as_ref()
+            .map_or(Vec::new(), |s| FlowSides::velocities(s).collect());
+        from_sides.into_iter().chain(self.initial_velocity)
     }
 
     pub fn check(&self, c: &mut Checker) {
