@@ -11,6 +11,10 @@ use fluid_proc::immersed::ImmersedBody;
 use fluid_proc::incompressible::Incompressible;
 use fluid_proc::{check_triangles, triangles_from_field, Porous};
 
+/// How far a canopy's extent along a 2-D flow's thin axis may differ from
+/// the box's depth, relative: the fabric stretches a little across it.
+const SPAN_TOLERANCE: f64 = 1e-3;
+
 pub struct FlowCanopy {
     triangles: Option<Vec<[usize; 3]>>,
     /// The fabric's law (`canopy::porous_law`); None for a closed fabric.
@@ -71,24 +75,20 @@ impl FlowCanopy {
             .extend(x.iter().enumerate().map(|(i, c)| c - self.origin[i % 3]));
         let g = flow.grid();
         // A 2-D flow has no depth to resolve: the canopy must span the box's
-        // one cell along its thin axis, each marker acting across it.
+        // one cell along its thin axis, each marker acting across it. That
+        // axis is periodic, so where along it the canopy sits is no matter.
         for d in (0..3).filter(|&d| g.n[d] == 1) {
             let depth = g.h[d];
-            let slack = 1e-9 * depth;
             let along = self.x.iter().skip(d).step_by(3);
             let (lo, hi) = along.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &c| {
                 (lo.min(c), hi.max(c))
             });
-            if !self.x.is_empty() && (lo.abs() > slack || (hi - depth).abs() > slack) {
+            if !self.x.is_empty() && ((hi - lo) / depth - 1.0).abs() > SPAN_TOLERANCE {
                 let axis = ["x", "y", "z"][d];
                 return Err(format!(
-                    "the canopy spans {axis} = {:.4} to {:.4} m, not the 2-D flow box's depth \
-                     {:.4} to {:.4} m: a canopy in a 2-D flow must span the box's one cell \
-                     along {axis}",
-                    lo + self.origin[d],
-                    hi + self.origin[d],
-                    self.origin[d],
-                    depth + self.origin[d],
+                    "the canopy spans {:.6} m along {axis}, not the 2-D flow box's depth of \
+                     {depth:.6} m: a canopy in a 2-D flow must span the box's one cell along {axis}",
+                    hi - lo
                 ));
             }
         }

@@ -1,6 +1,7 @@
 //! Scenario files: TOML parsed with serde, unknown keys rejected, every value
 //! checked, every problem reported as one message naming the file, line and key.
 
+mod canopy_flow;
 mod check;
 pub mod collision;
 mod error;
@@ -333,17 +334,12 @@ impl Scenario {
                         .into(),
                 );
             }
-            if s.model == fluid::FluidModel::Incompressible
-                && s.porosity.is_some()
-                && self.participants.structure.is_none()
-            {
-                c.problem(
-                    &["fluid", "porosity"],
-                    "porosity, diameter and thickness describe the canopy's fabric, but no \
-                     participant `structure` sends a canopy: list one, or leave the keys out"
-                        .into(),
-                );
-            }
+            canopy_flow::check(
+                c,
+                s,
+                self.participants.structure.is_some(),
+                self.structure.as_ref(),
+            );
             let ranks = self.participants.fluid.as_ref().map_or(1, |f| f.ranks());
             if ranks > 1 {
                 check_ranks(c, s, ranks);

@@ -4,22 +4,23 @@
 use super::{replace, Case};
 use canopy_tests::scenario_path;
 
-/// The shipped cavity scenario with `from` replaced by `to` (flow cases).
-fn cavity_with(from: &str, to: &str) -> String {
-    let text = std::fs::read_to_string(scenario_path("cavity")).unwrap();
+/// The shipped scenario `name` with `from` replaced by `to`.
+fn shipped_with(name: &str, from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(scenario_path(name)).unwrap();
     if from.is_empty() {
         return text;
     }
     replace(&text, from, to)
 }
 
+/// The shipped cavity scenario with `from` replaced by `to` (flow cases).
+fn cavity_with(from: &str, to: &str) -> String {
+    shipped_with("cavity", from, to)
+}
+
 /// The shipped Sod shock tube with `from` replaced by `to` (gas cases).
 fn sod_with(from: &str, to: &str) -> String {
-    replace(
-        &std::fs::read_to_string(scenario_path("sod")).unwrap(),
-        from,
-        to,
-    )
+    shipped_with("sod", from, to)
 }
 
 pub const CASES: &[Case] = &[
@@ -48,6 +49,23 @@ pub const CASES: &[Case] = &[
         key: Some("fluid.porosity"),
         says: "no participant `structure` sends a canopy",
         line_of: Some("porosity = 0.5"),
+    },
+    Case {
+        name: "flow-2d-annulus",
+        edit: |_| shipped_with("canopy-flow", "cells = [30, 30, 40]", "cells = [30, 1, 40]"),
+        key: Some("fluid.box.cells"),
+        says: "[structure.annulus] needs a 3-D box",
+        line_of: Some("cells = [30, 1, 40]"),
+    },
+    Case {
+        name: "flow-2d-cloth-too-shallow",
+        edit: |_| {
+            let t = shipped_with("sheet-updraft", "cells = [8, 8, 32]", "cells = [8, 1, 32]");
+            replace(&t, "upper = [1.0, 1.0, 4.0]", "upper = [1.0, 0.125, 4.0]")
+        },
+        key: Some("structure.cloth"),
+        says: "the cloth spans y = 0 to 1 m",
+        line_of: Some("[structure.cloth]"),
     },
     Case {
         name: "flow-free-stream-key",
