@@ -83,8 +83,7 @@ fn run_porous(p: &mut Participant, section: &FluidSection) -> Result<u64, Error>
                 let tris = triangles.as_deref().unwrap_or(&[]);
                 let x = p.read_field(Field::CanopyPositions)?;
                 if let Err(msg) = check_triangles(tris, x.len() / 3) {
-                    p.fail(msg.clone())?;
-                    return Err(msg.into());
+                    return Err(fail(p, msg));
                 }
                 let v = p.read_field(Field::CanopyVelocities)?;
                 let mut total = 0.0;
@@ -149,9 +148,7 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
                     // The bodies where rigid-proc left them at the window's start.
                     let states = p.read_field(Field::BodyStates)?;
                     if let Err(e) = bodies.read(&states, &mut flow) {
-                        let msg = format!("at t = {} s: {e}", flow.time);
-                        p.fail(msg.clone())?;
-                        return Err(msg.into());
+                        return Err(fail(p, format!("at t = {} s: {e}", flow.time)));
                     }
                 }
                 if with_canopy {
@@ -162,9 +159,7 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
                     let x = p.read_field(Field::CanopyPositions)?;
                     let v = p.read_field(Field::CanopyVelocities)?;
                     if let Err(e) = canopy.place(&x, &v, &mut flow) {
-                        let msg = format!("at t = {} s: {e}", flow.time);
-                        p.fail(msg.clone())?;
-                        return Err(msg.into());
+                        return Err(fail(p, format!("at t = {} s: {e}", flow.time)));
                     }
                 }
                 before.clone_from(&flow.u);
@@ -175,9 +170,7 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
                     match flow.step(dt) {
                         Ok(r) => report = r,
                         Err(e) => {
-                            let msg = format!("flow step at t = {} s: {e}", flow.time);
-                            p.fail(msg.clone())?;
-                            return Err(msg.into());
+                            return Err(fail(p, format!("flow step at t = {} s: {e}", flow.time)));
                         }
                     }
                     steps += 1;
@@ -214,6 +207,15 @@ fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64
         }
     }
     Ok(steps)
+}
+
+/// Tells the coupler the run failed with `msg` and gives it back as the
+/// error to stop on (the coupler's own error if even telling it failed).
+fn fail(p: &mut Participant, msg: String) -> Error {
+    match p.fail(msg.clone()) {
+        Ok(()) => msg.into(),
+        Err(e) => e.into(),
+    }
 }
 
 fn flow_monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> Vec<Monitor> {
