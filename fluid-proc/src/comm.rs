@@ -76,7 +76,11 @@ impl Slab {
     /// Rank `rank`'s slab of `ranks`: the cells along the axis shared as
     /// evenly as they go, the first ranks taking one more.
     pub fn of(n: [usize; 3], ranks: usize, rank: usize) -> Slab {
-        let axis = Slab::axis(n);
+        Slab::along(n, Slab::axis(n), ranks, rank)
+    }
+
+    /// Rank `rank`'s slab of `ranks` along `axis`.
+    pub fn along(n: [usize; 3], axis: usize, ranks: usize, rank: usize) -> Slab {
         let (each, extra) = (n[axis] / ranks, n[axis] % ranks);
         let lo = rank * each + rank.min(extra);
         let hi = lo + each + (rank < extra) as usize;

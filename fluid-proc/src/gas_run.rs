@@ -1,10 +1,10 @@
 //! fluid-proc's compressible Euler model, on one rank or several (part of
-//! the binary). Rank 0 alone speaks to the coupler; it turns each command
-//! into an [`Order`], broadcasts it, and every rank obeys it together:
-//! stepping (with the halo exchanges and the global Δt), the monitors
-//! (sums and minima over the box) and the output (gathered to rank 0, which
-//! writes it). One rank is the same code with a [`Single`] communicator.
+//! the binary; `ranks.rs` says how they work together): every rank obeys
+//! rank 0's orders together: stepping (with the halo exchanges and the
+//! global Δt), the monitors (sums and minima over the box) and the output
+//! (gathered to rank 0, which writes it).
 
+use crate::ranks::{Order, Stopped};
 use crate::Error;
 use coupler::scenario::FluidSection;
 use coupler::vtu::{Image, Series};
@@ -14,48 +14,6 @@ use fluid_proc::compressible::{AdvanceReport, Compressible, GasError};
 use fluid_proc::gas::Primitive;
 use fluid_proc::setup::gas_on;
 use std::sync::Arc;
-
-/// What every rank does next.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Order {
-    Monitors,
-    Output { index: u64, time: f64 },
-    Advance { dt: f64, window_end: bool },
-    Stop,
-}
-
-impl Order {
-    /// As four numbers, for the broadcast.
-    fn encode(self) -> [f64; 4] {
-        match self {
-            Order::Monitors => [0.0; 4],
-            Order::Output { index, time } => [1.0, index as f64, time, 0.0],
-            Order::Advance { dt, window_end } => [2.0, dt, window_end as u8 as f64, 0.0],
-            Order::Stop => [3.0, 0.0, 0.0, 0.0],
-        }
-    }
-
-    fn decode(x: [f64; 4]) -> Order {
-        match x[0] as u8 {
-            0 => Order::Monitors,
-            1 => Order::Output {
-                index: x[1] as u64,
-                time: x[2],
-            },
-            2 => Order::Advance {
-                dt: x[1],
-                window_end: x[2] != 0.0,
-            },
-            _ => Order::Stop,
-        }
-    }
-
-    fn share(self, comm: &dyn Comm) -> Order {
-        let mut x = self.encode();
-        comm.broadcast(&mut x);
-        Order::decode(x)
-    }
-}
 
 /// What obeying an order gave; only rank 0's is used.
 enum Done {
@@ -71,7 +29,7 @@ fn obey(gas: &mut Compressible, order: Order) -> Result<Done, GasError> {
     Ok(match order {
         Order::Monitors => Done::Monitors(monitors(gas, AdvanceReport::default())),
         Order::Output { .. } => Done::Output(gas.gathered_primitives()),
-        Order::Advance { dt, window_end } => {
+        Order::Advance { dt, window_end, .. } => {
             let report = gas.advance(dt)?;
             let m = if window_end {
                 monitors(gas, report)
@@ -98,24 +56,6 @@ fn monitors(gas: &Compressible, r: AdvanceReport) -> Vec<Monitor> {
     ]
 }
 
-/// Why [`lead`] stopped early.
-pub struct Stopped {
-    pub error: Error,
-    /// Whether every rank stopped with it (a failed step, which all ranks
-    /// meet together), or rank 0 alone (the others must then be aborted).
-    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-    pub together: bool,
-}
-
-impl<E: Into<Error>> From<E> for Stopped {
-    fn from(e: E) -> Stopped {
-        Stopped {
-            error: e.into(),
-            together: false,
-        }
-    }
-}
-
 /// Rank 0 (or the only rank): as many stable steps per window as the
 /// fastest wave allows (`cfl`), the gas written as `fluid.pvd`.
 pub fn lead(
@@ -139,6 +79,7 @@ pub fn lead(
             },
             Ok(Command::Advance(a)) => Order::Advance {
                 dt: a.dt,
+                substeps: a.substeps,
                 window_end: a.window_end,
             },
             _ => Order::Stop,
@@ -198,68 +139,4 @@ pub fn follow(section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Error> 
             Ok(_) => {}
         }
     }
-}
-
-/// fluid-proc started under `mpirun` (`[participants.fluid] ranks = N`).
-#[cfg(feature = "mpi")]
-pub fn ranks() -> Result<(), Error> {
-    use coupler::scenario::fluid::FluidModel;
-    use coupler::{Role, Scenario};
-    use fluid_proc::mpi_comm::MpiComm;
-    let universe = mpi::initialize().ok_or("MPI was initialised twice")?;
-    let mpi = Arc::new(MpiComm::new(&universe));
-    let comm: Arc<dyn Comm> = mpi.clone();
-    let mut text = String::new();
-    let result = if comm.rank() == 0 {
-        (|| -> Result<(), Stopped> {
-            let mut p = Participant::connect(Role::Fluid)?;
-            text = p.scenario().to_toml();
-            comm.broadcast_text(&mut text);
-            let section = p
-                .scenario()
-                .fluid
-                .clone()
-                .ok_or("the scenario has no [fluid] section")?;
-            if section.model != FluidModel::Euler {
-                let msg = format!("model = \"{}\" runs on one rank only", section.model.name());
-                return Err(msg.into());
-            }
-            let steps = lead(&mut p, &section, comm.clone())?;
-            p.finish(steps)?;
-            Ok(())
-        })()
-    } else {
-        comm.broadcast_text(&mut text);
-        (|| -> Result<(), Stopped> {
-            let scenario = Scenario::from_resolved(&text)?;
-            let section = scenario
-                .fluid
-                .ok_or("the scenario has no [fluid] section")?;
-            Ok(follow(&section, comm.clone())?)
-        })()
-    };
-    match result {
-        Ok(()) => Ok(()),
-        // Every rank has left its loop: MPI finalises as the universe drops.
-        Err(Stopped {
-            error,
-            together: true,
-        }) => Err(error),
-        // One rank alone cannot finish the others' collectives: stop them all.
-        Err(Stopped { error, .. }) => {
-            eprintln!("fluid-proc (rank {}): {error}", comm.rank());
-            mpi.abort(1)
-        }
-    }
-}
-
-/// fluid-proc built without MPI, started under `mpirun` all the same.
-#[cfg(not(feature = "mpi"))]
-pub fn ranks() -> Result<(), Error> {
-    Err(
-        "the scenario asks for several ranks, but this fluid-proc was built without MPI: \
-         build it with `cargo build --release -p fluid-proc --features mpi` (needs OpenMPI: \
-         apt-get install libopenmpi-dev openmpi-bin libclang1-14 libclang-common-14-dev)"
-            .into(),
-    )
 }

@@ -13,6 +13,9 @@ pub enum Bc {
     Dirichlet,
     /// Wraps to the opposite side (which must be periodic too).
     Periodic,
+    /// Another rank's cells are beyond (a side of a slab, `part.rs`), read
+    /// from a halo plane.
+    Rank,
 }
 
 /// Where a cell's neighbour across one of its faces lies.

@@ -14,12 +14,17 @@
 //! Pressures here are kinematic (p/ρ, m²/s²); `pressure` gives pascals.
 //! The side velocities are held fixed in time, and u* takes them as its
 //! boundary values.
+//!
+//! Split among ranks, each holds its slab of the box (`part.rs`): `u`, `q`
+//! and the fields it returns are the slab's, and the sums and extrema it
+//! returns are the whole box's.
 
 use crate::advection::advection;
 use crate::grid::Grid;
 use crate::immersed::{force, ImmersedBody};
 use crate::mac::{for_each_cell_faces, for_each_gradient, project, Faces};
 use crate::padded::Padded;
+use crate::part::{Halo, Part};
 use crate::poisson::{Poisson, SolveError};
 use crate::side::{bcs, Sides};
 use crate::viscosity::{laplacian, Helmholtz, ViscousError};
@@ -79,7 +84,14 @@ struct Work {
 }
 
 pub struct Incompressible {
+    /// The whole box.
     pub setup: FlowSetup,
+    /// This rank's part of it, its cells as a grid, and its own sides.
+    pub part: Part,
+    local: Grid,
+    sides: Sides,
+    /// q's planes beyond the slab.
+    halo: Halo,
     /// Face velocities uⁿ [m/s].
     pub u: Faces,
     /// Kinematic pressure p^{n−½}/ρ per cell [m²/s²].
@@ -104,12 +116,18 @@ impl Incompressible {
     /// must pair up (periodic with periodic) and an axis one cell thick must
     /// be periodic, as the scenario check makes sure.
     pub fn new(setup: FlowSetup) -> Incompressible {
-        let mut grid = setup.grid.clone();
-        grid.bc = bcs(&setup.sides);
+        let part = Part::whole(setup.grid.n, setup.sides);
+        Incompressible::on(setup, part)
+    }
+
+    /// This rank's `part` of the flow.
+    pub fn on(setup: FlowSetup, part: Part) -> Incompressible {
         let mut setup = setup;
-        setup.grid = grid.clone();
+        setup.grid.bc = bcs(&setup.sides);
+        let global = setup.grid.clone();
+        let grid = part.local_grid(&global);
         let active = |c: usize| grid.n[c] > 1;
-        let padded = [0, 1, 2].map(|c| active(c).then(|| Padded::new(&grid, &setup.sides, c)));
+        let padded = [0, 1, 2].map(|c| active(c).then(|| Padded::on(&part, c)));
         let work = padded.clone().map(|p| {
             p.map(|p| {
                 let len = p.data.len();
@@ -132,7 +150,11 @@ impl Incompressible {
             q: vec![0.0; grid.cells()],
             phi: vec![0.0; grid.cells()],
             scratch: vec![0.0; grid.cells()],
-            poisson: Poisson::new(&grid, PRESSURE_TOLERANCE),
+            poisson: Poisson::on(&global, &part, PRESSURE_TOLERANCE),
+            sides: part.local_sides(),
+            local: grid,
+            part,
+            halo: Halo::default(),
             padded,
             work,
             last_dt: None,
@@ -145,16 +167,23 @@ impl Incompressible {
         flow
     }
 
+    /// The whole box.
     pub fn grid(&self) -> &Grid {
         &self.setup.grid
     }
 
+    /// This rank's cells (the whole box on one rank).
+    pub fn local_grid(&self) -> &Grid {
+        &self.local
+    }
+
     /// Puts the side velocities on the side faces and makes periodic
-    /// repeats equal (after the caller set `u`).
+    /// repeats (and the faces two ranks share) equal, after the caller set
+    /// `u`.
     pub fn impose_sides(&mut self) {
         for p in self.padded.iter_mut().flatten() {
             p.load(&self.u);
-            p.fill_ghosts(&self.setup.sides);
+            p.fill_ghosts(&self.sides);
             p.store(&mut self.u);
         }
     }
@@ -168,7 +197,7 @@ impl Incompressible {
     /// the mean of the cell's two faces along each axis.
     fn for_each_cell_velocity(&self, mut f: impl FnMut(usize, [f64; 3])) {
         let u = &self.u.u;
-        for_each_cell_faces(self.setup.grid.n, |c, below, up| {
+        for_each_cell_faces(self.local.n, |c, below, up| {
             f(
                 c,
                 [0, 1, 2].map(|d| 0.5 * (u[d][below[d]] + u[d][below[d] + up[d]])),
@@ -178,7 +207,7 @@ impl Incompressible {
 
     /// Velocity per cell [m/s], 3 per cell (x, y, z).
     pub fn cell_velocity(&self) -> Vec<f64> {
-        let mut out = vec![0.0; 3 * self.setup.grid.cells()];
+        let mut out = vec![0.0; 3 * self.local.cells()];
         self.for_each_cell_velocity(|c, v| out[3 * c..3 * c + 3].copy_from_slice(&v));
         out
     }
@@ -188,7 +217,7 @@ impl Incompressible {
         let volume: f64 = self.setup.grid.h.iter().product();
         let mut sum = 0.0;
         self.for_each_cell_velocity(|_, v| sum += v.iter().map(|x| x * x).sum::<f64>());
-        0.5 * self.setup.density * sum * volume
+        0.5 * self.setup.density * self.part.sum(sum) * volume
     }
 
     /// Momentum ρΣuV over the cells, from the cell velocities [kg·m/s].
@@ -196,13 +225,20 @@ impl Incompressible {
         let volume: f64 = self.setup.grid.h.iter().product();
         let mut sum = [0.0; 3];
         self.for_each_cell_velocity(|_, v| (0..3).for_each(|d| sum[d] += v[d]));
+        self.part.comm.sum(&mut sum);
         sum.map(|s| self.setup.density * s * volume)
     }
 
     /// Largest |∇·u| over the cells [1/s].
     pub fn max_divergence(&mut self) -> f64 {
-        crate::mac::divergence(&self.setup.grid, &self.u, &mut self.scratch);
-        self.scratch.iter().fold(0.0, |m, d| m.max(d.abs()))
+        crate::mac::divergence(&self.local, &self.u, &mut self.scratch);
+        self.part
+            .max(self.scratch.iter().fold(0.0, |m, d| m.max(d.abs())))
+    }
+
+    /// Largest change of a face velocity from `before` over the box [m/s].
+    pub fn max_change(&self, before: &Faces) -> f64 {
+        self.part.max(self.u.max_difference(before))
     }
 
     /// The Courant number of a step of `dt`: max over the cells of
@@ -214,7 +250,7 @@ impl Incompressible {
         self.for_each_cell_velocity(|_, v| {
             most = most.max((0..3).map(|a| v[a].abs() * inv_h[a]).sum::<f64>());
         });
-        most * dt
+        self.part.max(most) * dt
     }
 
     /// Advances the flow by `dt` [s].
@@ -226,8 +262,8 @@ impl Incompressible {
         if courant > MAX_COURANT {
             return Err(FlowError::Courant(courant));
         }
-        let grid = &self.setup.grid;
-        let sides = &self.setup.sides;
+        let grid = &self.local;
+        let sides = &self.sides;
         let h = grid.h;
         let nu = self.setup.nu;
         for p in self.padded.iter_mut().flatten() {
@@ -235,6 +271,7 @@ impl Incompressible {
             p.fill_ghosts(sides);
         }
         let ab = adams_bashforth(dt, self.last_dt);
+        self.part.fill_halo(&self.q, &mut self.halo);
         let mut viscous_iterations = 0;
         for c in 0..3 {
             let (Some(u), Some(w)) = (&self.padded[c], &mut self.work[c]) else {
@@ -246,7 +283,7 @@ impl Incompressible {
             // The change over the step solves (I − αL)δ = Δt(−N^{n+½} − ∇q + νLuⁿ),
             // which is eq. (3.18) less (I − αL)uⁿ.
             let grad_q = &mut w.grad_q;
-            for_each_gradient(grid, &self.q, c, |f, g| grad_q[f] = g);
+            for_each_gradient(grid, &self.q, &self.halo, c, |f, g| grad_q[f] = g);
             let lay = u.lay;
             let m = lay.m;
             let ([n0, n1], lap, b) = (&w.n, &w.lap, &mut w.b);
@@ -279,10 +316,14 @@ impl Incompressible {
         if !forced.is_empty() {
             // The forcing acts on u* before the projection, so the projected
             // field is divergence-free with the bodies and canopy in it.
+            assert!(
+                !self.part.split(),
+                "bodies and canopies are forced on one rank only"
+            );
             force(grid, &mut self.u, dt, self.setup.density, &mut forced);
             self.impose_sides();
         }
-        let grid = &self.setup.grid;
+        let grid = &self.local;
         let clock = std::time::Instant::now();
         let pressure_iterations = project(
             grid,

@@ -8,8 +8,13 @@
 //! The stencil works line by line along x: each line knows where the lines
 //! beside it start (or that a side is there), so the inner loop over a line
 //! holds no index arithmetic beyond ±1 and the line offsets.
+//!
+//! On a rank's slab (`part.rs`) a side toward another rank reads that
+//! rank's cells from a halo plane, which the caller fills first; the
+//! red–black colours follow the cells' places in the whole box.
 
 use crate::grid::{Bc, Grid, Neighbour};
+use crate::part::Halo;
 use rayon::prelude::*;
 
 /// Lines shorter than this many cells per task are not worth a thread.
@@ -23,6 +28,9 @@ const CELLS_PER_TASK: usize = 4096;
 pub struct Line {
     pub start: usize,
     pub beside: [Option<usize>; 4],
+    /// Where the line's row starts in the halo plane below and above,
+    /// where another rank's cells are there (the slab's axis, y or z).
+    pub halo: [Option<usize>; 2],
 }
 
 /// A = −∇²ₕ on one grid, ready to apply and to smooth with.
@@ -36,10 +44,21 @@ pub struct Stencil {
     lines: Vec<Line>,
     /// x wraps (periodic and more than one cell).
     x_wraps: bool,
+    /// The slab's axis and 1/h² along it, where a side faces another rank.
+    halo_weight: f64,
+    /// The first cell's place along the slab's axis in the whole box, mod 2.
+    parity: usize,
 }
 
 impl Stencil {
+    /// On a whole box.
     pub fn new(g: &Grid) -> Stencil {
+        Stencil::on(g, 0)
+    }
+
+    /// On a rank's slab `g`, whose first cell along the slab's axis is the
+    /// box's cell `offset` there.
+    pub fn on(g: &Grid, offset: usize) -> Stencil {
         let [nx, ny, nz] = g.n;
         let beside = |c: usize, n: usize, d: usize, stride: usize, up: bool| {
             if n == 1 {
@@ -54,6 +73,8 @@ impl Stencil {
                 (true, true) => Some(-(((n - 1) * stride) as isize)),
             }
         };
+        // A side toward another rank is on the slowest axis that has one.
+        let rank_axis = (1..3).find(|&d| g.bc[d].contains(&Bc::Rank));
         let mut lines = Vec::with_capacity(ny * nz);
         for k in 0..nz {
             for j in 0..ny {
@@ -64,9 +85,18 @@ impl Stencil {
                     beside(k, nz, 2, nx * ny, false),
                     beside(k, nz, 2, nx * ny, true),
                 ];
+                let halo = [false, true].map(|up| {
+                    let d = rank_axis?;
+                    let c = [0, j, k][d];
+                    let at_side = if up { c + 1 == g.n[d] } else { c == 0 };
+                    let mut row = [0, j, k];
+                    row[d] = 0;
+                    (at_side && g.bc[d][up as usize] == Bc::Rank).then(|| g.index(row))
+                });
                 lines.push(Line {
                     start,
                     beside: off.map(|o| o.map(|o| (start as isize + o) as usize)),
+                    halo,
                 });
             }
         }
@@ -82,6 +112,8 @@ impl Stencil {
             diag,
             lines,
             x_wraps: nx > 1 && g.bc[0][0] == Bc::Periodic,
+            halo_weight: rank_axis.map_or(0.0, |d| 1.0 / (g.h[d] * g.h[d])),
+            parity: offset % 2,
         }
     }
 
@@ -99,11 +131,32 @@ impl Stencil {
         (rows, count)
     }
 
-    /// Σ of the neighbours' weighted values of cell `i` on a line starting
-    /// at `start` with the lines `rows` beside it: the off-diagonal part of
-    /// A with its sign flipped.
+    /// The rows of `halo` beside `line` (none inside a slab).
     #[inline(always)]
-    fn beside_sum(&self, x: &[f64], start: usize, rows: &[(usize, f64)], i: usize) -> f64 {
+    fn halo_rows<'a>(&self, line: &Line, halo: &'a Halo) -> ([&'a [f64]; 2], usize) {
+        let mut rows: [&[f64]; 2] = [&[], &[]];
+        let mut count = 0;
+        for (h, row) in halo.iter().zip(line.halo) {
+            if let Some(row) = row {
+                rows[count] = &h[row..row + self.grid.n[0]];
+                count += 1;
+            }
+        }
+        (rows, count)
+    }
+
+    /// Σ of the neighbours' weighted values of cell `i` on a line starting
+    /// at `start` with the lines `rows` beside it and the halo rows
+    /// `beyond`: the off-diagonal part of A with its sign flipped.
+    #[inline(always)]
+    fn beside_sum(
+        &self,
+        x: &[f64],
+        start: usize,
+        rows: &[(usize, f64)],
+        beyond: &[&[f64]],
+        i: usize,
+    ) -> f64 {
         let nx = self.grid.n[0];
         let c = start + i;
         let mut sx = 0.0;
@@ -121,11 +174,15 @@ impl Stencil {
         for &(b, w) in rows {
             s += w * x[b + i];
         }
+        for h in beyond {
+            s += self.halo_weight * h[i];
+        }
         s
     }
 
-    /// out = A x.
-    pub fn apply(&self, x: &[f64], out: &mut [f64]) {
+    /// out = A x, the neighbours' cells beyond a slab's sides in `halo`
+    /// (empty on a whole box).
+    pub fn apply(&self, x: &[f64], halo: &Halo, out: &mut [f64]) {
         let nx = self.grid.n[0];
         let per_task = (CELLS_PER_TASK / nx).max(1);
         out.par_chunks_mut(nx)
@@ -134,29 +191,33 @@ impl Stencil {
             .for_each(|(o, line)| {
                 let (rows, count) = self.rows(line);
                 let rows = &rows[..count];
+                let (beyond, halos) = self.halo_rows(line, halo);
+                let beyond = &beyond[..halos];
                 for (i, o) in o.iter_mut().enumerate() {
                     let c = line.start + i;
-                    *o = self.diag[c] * x[c] - self.beside_sum(x, line.start, rows, i);
+                    *o = self.diag[c] * x[c] - self.beside_sum(x, line.start, rows, beyond, i);
                 }
             });
     }
 
-    /// One Gauss–Seidel pass over the cells of one colour ((i + j + k) mod 2)
-    /// for A x = b. A cell with a zero diagonal (a lone cell with no sides to
-    /// speak of) is left alone.
-    pub fn gauss_seidel(&self, b: &[f64], x: &mut [f64], colour: usize) {
+    /// One Gauss–Seidel pass over the cells of one colour ((i + j + k) mod 2
+    /// in the whole box) for A x = b. A cell with a zero diagonal (a lone
+    /// cell with no sides to speak of) is left alone.
+    pub fn gauss_seidel(&self, b: &[f64], x: &mut [f64], halo: &Halo, colour: usize) {
         let nx = self.grid.n[0];
         let ny = self.grid.n[1];
         for (l, line) in self.lines.iter().enumerate() {
             let (rows, count) = self.rows(line);
             let rows = &rows[..count];
+            let (beyond, halos) = self.halo_rows(line, halo);
+            let beyond = &beyond[..halos];
             let (j, k) = (l % ny, l / ny);
-            let first = (colour + j + k) % 2;
+            let first = (colour + j + k + self.parity) % 2;
             for i in (first..nx).step_by(2) {
                 let c = line.start + i;
                 let d = self.diag[c];
                 if d != 0.0 {
-                    x[c] = (b[c] + self.beside_sum(x, line.start, rows, i)) / d;
+                    x[c] = (b[c] + self.beside_sum(x, line.start, rows, beyond, i)) / d;
                 }
             }
         }
@@ -168,7 +229,7 @@ fn diagonal_term(g: &Grid, c: [usize; 3], d: usize, up: bool) -> f64 {
     let w = 1.0 / (g.h[d] * g.h[d]);
     match g.neighbour(c, d, up) {
         Neighbour::Cell(m) if m == g.index(c) => 0.0,
-        Neighbour::Cell(_) => w,
+        Neighbour::Cell(_) | Neighbour::Side(Bc::Rank) => w,
         Neighbour::Side(Bc::Dirichlet) => 2.0 * w,
         Neighbour::Side(_) => 0.0,
     }

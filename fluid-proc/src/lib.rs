@@ -27,7 +27,8 @@
 //!   (`characteristic.rs`), and the exact Riemann solution it is checked
 //!   against (`riemann.rs`).
 //! - The ranks a solver's box is split among (`comm.rs`; on MPI with the
-//!   `mpi` feature, `mpi_comm.rs`).
+//!   `mpi` feature, `mpi_comm.rs`), and the incompressible flow's slab of
+//!   it on each (`part.rs`).
 //!
 //! The physics never touches IPC.
 
@@ -48,6 +49,7 @@ pub mod mac;
 pub mod mpi_comm;
 pub mod multigrid;
 pub mod padded;
+pub mod part;
 pub mod poisson;
 pub mod pressure_force;
 pub mod profile;

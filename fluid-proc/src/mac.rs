@@ -8,8 +8,12 @@
 //! same sides as the Laplacian (a Neumann side leaves its given face
 //! velocity alone, a Dirichlet side sees φ = 0 on the face), so the projected
 //! field is discretely divergence-free to the tolerance of the solve.
+//!
+//! On a rank's slab (`part.rs`) the grid is the slab's, and φ beyond a
+//! side toward another rank comes from its halo planes.
 
 use crate::grid::{Bc, Grid};
+use crate::part::Halo;
 use crate::poisson::{Poisson, SolveError};
 
 /// Face velocities [m/s]: `u[d]` on the faces normal to axis d.
@@ -96,7 +100,13 @@ fn face_counts(n: [usize; 3], d: usize) -> [usize; 3] {
 
 /// Calls `f(face index, ∂φ/∂x_d)` for every face normal to d, in index
 /// order (`gradient` on the sides, a plain difference inside).
-pub fn for_each_gradient(g: &Grid, phi: &[f64], d: usize, mut f: impl FnMut(usize, f64)) {
+pub fn for_each_gradient(
+    g: &Grid,
+    phi: &[f64],
+    halo: &Halo,
+    d: usize,
+    mut f: impl FnMut(usize, f64),
+) {
     let n = g.n;
     let m = face_counts(n, d);
     let stride = [1, n[0], n[0] * n[1]][d];
@@ -110,7 +120,7 @@ pub fn for_each_gradient(g: &Grid, phi: &[f64], d: usize, mut f: impl FnMut(usiz
                     let cell = i + n[0] * (j + n[1] * k);
                     (phi[cell] - phi[cell - stride]) * inv_h
                 } else {
-                    gradient(g, phi, d, c)
+                    gradient(g, phi, halo, d, c)
                 };
                 f(face, grad);
                 face += 1;
@@ -133,10 +143,11 @@ pub fn project(
     divergence(g, u, scratch);
     scratch.iter_mut().for_each(|v| *v *= -1.0 / dt);
     let iterations = poisson.solve(scratch, phi)?;
+    let halo = poisson.halo_of(phi);
     for (d, u) in u.u.iter_mut().enumerate() {
         // Nothing varies along a periodic axis one cell thick.
         if g.n[d] > 1 || g.bc[d][0] != Bc::Periodic {
-            for_each_gradient(g, phi, d, |f, grad| u[f] -= dt * grad);
+            for_each_gradient(g, phi, halo, d, |f, grad| u[f] -= dt * grad);
         }
     }
     Ok(iterations)
@@ -145,8 +156,9 @@ pub fn project(
 /// ∂φ/∂x_d on face `face` normal to d (face along d, cell rows elsewhere):
 /// the difference of the two cells beside it; across a periodic side the
 /// cells at both ends; on a Dirichlet side φ = 0 on the face, half a cell
-/// from the cell; on a Neumann side zero, so the given velocity stays.
-pub fn gradient(g: &Grid, phi: &[f64], d: usize, face: [usize; 3]) -> f64 {
+/// from the cell; on a Neumann side zero, so the given velocity stays;
+/// toward another rank, its cell in the halo plane.
+pub fn gradient(g: &Grid, phi: &[f64], halo: &Halo, d: usize, face: [usize; 3]) -> f64 {
     let n = g.n[d];
     let h = g.h[d];
     let k = face[d];
@@ -163,5 +175,15 @@ pub fn gradient(g: &Grid, phi: &[f64], d: usize, face: [usize; 3]) -> f64 {
         Bc::Dirichlet if k == 0 => 2.0 * cell(0) / h,
         Bc::Dirichlet => -2.0 * cell(n - 1) / h,
         Bc::Neumann => 0.0,
+        Bc::Rank => {
+            let mut row = face;
+            row[d] = 0;
+            let beyond = halo[(k == n) as usize][g.index(row)];
+            if k == 0 {
+                (cell(0) - beyond) / h
+            } else {
+                (beyond - cell(n - 1)) / h
+            }
+        }
     }
 }

@@ -2,20 +2,19 @@
 
 use coupler::scenario::fluid::FluidModel;
 use coupler::scenario::FluidSection;
-use coupler::vtu::{Image, Series};
 use coupler::{Command, Field, Monitor, Participant, Role};
 use fluid_proc::comm::Single;
-use fluid_proc::incompressible::{Incompressible, StepReport};
-use fluid_proc::setup::flow_from;
 use fluid_proc::{check_triangles, triangles_from_field, Porous};
+use std::sync::Arc;
 
 mod clearance;
 mod flow_bodies;
 mod flow_canopy;
+mod flow_run;
 mod gas_run;
+mod ranks;
 
-use flow_bodies::FlowBodies;
-use flow_canopy::FlowCanopy;
+use flow_run::fail;
 
 type Error = Box<dyn std::error::Error>;
 
@@ -24,25 +23,33 @@ fn main() {
         .ok()
         .and_then(|r| r.parse::<usize>().ok())
         .unwrap_or(1);
-    let result = if ranks > 1 { gas_run::ranks() } else { run() };
+    let result = if ranks > 1 { ranks::ranks() } else { run() };
     if let Err(e) = result {
         eprintln!("fluid-proc: {e}");
         std::process::exit(1);
     }
 }
 
-fn run() -> Result<(), Error> {
-    let mut p = Participant::connect(Role::Fluid)?;
+/// Connects to the coupler; the scenario's `[fluid]` section.
+fn connect() -> Result<(Participant, FluidSection), Error> {
+    let p = Participant::connect(Role::Fluid)?;
     let section = p
         .scenario()
         .fluid
         .clone()
         .ok_or("the scenario has no [fluid] section")?;
+    Ok((p, section))
+}
+
+fn run() -> Result<(), Error> {
+    let (mut p, section) = connect()?;
     let steps = match section.model {
         FluidModel::PorousFreeStream => run_porous(&mut p, &section)?,
-        FluidModel::Incompressible => run_incompressible(&mut p, &section)?,
+        FluidModel::Incompressible => {
+            flow_run::lead(&mut p, &section, Arc::new(Single)).map_err(|s| s.error)?
+        }
         FluidModel::Euler => {
-            gas_run::lead(&mut p, &section, std::sync::Arc::new(Single)).map_err(|s| s.error)?
+            gas_run::lead(&mut p, &section, Arc::new(Single)).map_err(|s| s.error)?
         }
     };
     p.finish(steps)?;
@@ -102,133 +109,4 @@ fn run_porous(p: &mut Participant, section: &FluidSection) -> Result<u64, Error>
         }
     }
     Ok(windows)
-}
-
-/// The incompressible Navier–Stokes model on its box of cells: one flow
-/// step per window (sub-steps when the coupler asks for them), the flow
-/// field written as `fluid.pvd`.
-fn run_incompressible(p: &mut Participant, section: &FluidSection) -> Result<u64, Error> {
-    let mut flow = flow_from(section).ok_or("[fluid] has no box")?;
-    let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
-    let mut bodies = FlowBodies::new(p.scenario(), &mut flow, origin)?;
-    let mut canopy = FlowCanopy::new(section, origin);
-    let with_canopy = p.is_connected(Field::CanopyPositions);
-    let mut loads = vec![0.0; 6 * flow.bodies.len()];
-    let mut series = Series::new(p.run_dir(), "fluid");
-    let mut steps = 0u64;
-    let mut before = flow.u.clone();
-    loop {
-        match p.next_command()? {
-            Command::Initialize => {
-                let mut m = flow_monitors(&mut flow, StepReport::default(), f64::NAN);
-                m.extend(bodies.monitors(&flow, None));
-                if with_canopy {
-                    m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
-                }
-                p.done(m)?
-            }
-            Command::Output { index, time } => {
-                let velocity = flow.cell_velocity();
-                let pressure = flow.pressure();
-                let g = flow.grid();
-                series.write_image(
-                    index,
-                    time,
-                    &Image {
-                        origin,
-                        spacing: g.h,
-                        cells: g.n,
-                        cell_data: vec![("velocity", 3, &velocity), ("pressure", 1, &pressure)],
-                    },
-                )?;
-                p.done(Vec::new())?
-            }
-            Command::Advance(a) => {
-                if p.is_connected(Field::BodyStates) {
-                    // The bodies where rigid-proc left them at the window's start.
-                    let states = p.read_field(Field::BodyStates)?;
-                    if let Err(e) = bodies.read(&states, &mut flow) {
-                        return Err(fail(p, format!("at t = {} s: {e}", flow.time)));
-                    }
-                }
-                if with_canopy {
-                    // The canopy where the structure left it at the window's start.
-                    if canopy.needs_triangles() {
-                        canopy.set_triangles(&p.read_field(Field::CanopyTriangles)?);
-                    }
-                    let x = p.read_field(Field::CanopyPositions)?;
-                    let v = p.read_field(Field::CanopyVelocities)?;
-                    if let Err(e) = canopy.place(&x, &v, &mut flow) {
-                        return Err(fail(p, format!("at t = {} s: {e}", flow.time)));
-                    }
-                }
-                before.clone_from(&flow.u);
-                let n = a.substeps.max(1);
-                let dt = a.dt / n as f64;
-                let mut report = StepReport::default();
-                for _ in 0..n {
-                    match flow.step(dt) {
-                        Ok(r) => report = r,
-                        Err(e) => {
-                            return Err(fail(p, format!("flow step at t = {} s: {e}", flow.time)));
-                        }
-                    }
-                    steps += 1;
-                }
-                if p.is_connected(Field::BodyLoads) {
-                    // rigid-proc reads a load every window, bodies or none.
-                    bodies.take_loads(&mut flow, &mut loads);
-                    p.write_field(Field::BodyLoads, loads.len(), |out| {
-                        out.copy_from_slice(&loads)
-                    })?;
-                }
-                if p.is_connected(Field::CanopyPressure) {
-                    let jumps = canopy.jumps(&flow);
-                    p.write_field(Field::CanopyPressure, jumps.len(), |out| {
-                        out.copy_from_slice(jumps)
-                    })?;
-                }
-                let m = if a.window_end {
-                    // How far from steady: max|∂u/∂t| over the window [m/s²].
-                    let change = flow.u.max_difference(&before) / a.dt;
-                    let mut m = flow_monitors(&mut flow, report, change);
-                    m.extend(bodies.monitors(&flow, Some(&loads)));
-                    if with_canopy {
-                        m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
-                    }
-                    m
-                } else {
-                    Vec::new()
-                };
-                p.done(m)?;
-            }
-            Command::Stop => break,
-            Command::Setup(_) => return Err("unexpected second setup".into()),
-        }
-    }
-    Ok(steps)
-}
-
-/// Tells the coupler the run failed with `msg` and gives it back as the
-/// error to stop on (the coupler's own error if even telling it failed).
-fn fail(p: &mut Participant, msg: String) -> Error {
-    match p.fail(msg.clone()) {
-        Ok(()) => msg.into(),
-        Err(e) => e.into(),
-    }
-}
-
-fn flow_monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> Vec<Monitor> {
-    let momentum = flow.momentum();
-    vec![
-        Monitor::new("kinetic_energy", flow.kinetic_energy()),
-        Monitor::new("momentum_x", momentum[0]),
-        Monitor::new("momentum_y", momentum[1]),
-        Monitor::new("momentum_z", momentum[2]),
-        Monitor::new("max_divergence", flow.max_divergence()),
-        Monitor::new("steady_residual", steady_residual),
-        Monitor::new("courant", r.courant),
-        Monitor::new("pressure_iterations", r.pressure_iterations as f64),
-        Monitor::new("viscous_iterations", r.viscous_iterations as f64),
-    ]
 }

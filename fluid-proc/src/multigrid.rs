@@ -8,9 +8,16 @@
 //! coarse operators are rediscretised. Symmetric red–black Gauss–Seidel
 //! (red then black before the coarse correction, black then red after) keeps
 //! the V-cycle symmetric, as conjugate gradients need.
+//!
+//! Split among ranks (`part.rs`), each rank smooths its slab of each level,
+//! its halo swapped before every sweep, as long as the slabs halve with the
+//! grid. From the first level whose next one they cannot (its cells would
+//! straddle two ranks), rank 0 gathers the level and runs the rest of the
+//! cycle on the whole of it: the same cycle as on one rank.
 
 use crate::grid::Grid;
 use crate::laplacian::Stencil;
+use crate::part::{Halo, Part};
 
 /// Smoothing sweeps before and after the coarse correction.
 const SWEEPS: usize = 2;
@@ -20,6 +27,8 @@ const COARSEST_CELLS: usize = 64;
 const COARSEST_SWEEPS: usize = 40;
 
 struct Level {
+    part: Part,
+    halo: Halo,
     stencil: Stencil,
     /// Right-hand side, solution and residual of this level's correction.
     b: Vec<f64>,
@@ -32,26 +41,60 @@ struct Level {
 }
 
 pub struct Multigrid {
+    /// This rank's slab of each level it smooths.
     levels: Vec<Level>,
     /// No Dirichlet side: A is singular and every level works mean-free.
     singular: bool,
+    /// Split among ranks: the last level, whole, and the cycle from it (on
+    /// rank 0; None on the others).
+    rest: Option<Option<Box<Multigrid>>>,
 }
 
 impl Multigrid {
+    /// On a whole box, one rank.
     pub fn new(fine: &Grid) -> Multigrid {
+        Multigrid::on(
+            fine,
+            &Part::whole(fine.n, [[crate::side::Side::WALL; 2]; 3]),
+        )
+    }
+
+    /// On this rank's `part` of the box `fine` (the whole box's grid).
+    pub fn on(fine: &Grid, part: &Part) -> Multigrid {
         let mut grids = vec![fine.clone()];
+        let mut parts = vec![part.clone()];
         while grids.last().unwrap().cells() > COARSEST_CELLS {
-            match grids.last().unwrap().coarsened() {
-                Some(g) => grids.push(g),
-                None => break,
-            }
+            let Some(g) = grids.last().unwrap().coarsened() else {
+                break;
+            };
+            let Some(p) = parts.last().unwrap().coarsened(g.n) else {
+                break;
+            };
+            grids.push(g);
+            parts.push(p);
         }
-        let levels = grids
+        let rest = part.split().then(|| {
+            let last = grids.last().unwrap();
+            (part.comm.rank() == 0).then(|| Box::new(Multigrid::new(last)))
+        });
+        let locals: Vec<Grid> = grids
             .iter()
+            .zip(&parts)
+            .map(|(g, p)| {
+                if p.split() {
+                    p.local_grid(g)
+                } else {
+                    g.clone()
+                }
+            })
+            .collect();
+        let levels = locals
+            .iter()
+            .zip(parts)
             .enumerate()
-            .map(|(l, g)| {
+            .map(|(l, (g, part))| {
                 let cells = g.cells();
-                let (parent, children) = match grids.get(l + 1) {
+                let (parent, children) = match locals.get(l + 1) {
                     Some(c) => {
                         let ratio: Vec<usize> = (0..3).map(|d| g.n[d] / c.n[d]).collect();
                         let parent = (0..cells)
@@ -65,7 +108,9 @@ impl Multigrid {
                     None => (Vec::new(), 1.0),
                 };
                 Level {
-                    stencil: Stencil::new(g),
+                    stencil: Stencil::on(g, part.slab.lo),
+                    halo: Halo::default(),
+                    part,
                     b: vec![0.0; cells],
                     x: vec![0.0; cells],
                     r: vec![0.0; cells],
@@ -77,12 +122,15 @@ impl Multigrid {
         Multigrid {
             levels,
             singular: !fine.has_dirichlet(),
+            rest,
         }
     }
 
-    /// The finest level's operator.
-    pub fn stencil(&self) -> &Stencil {
-        &self.levels[0].stencil
+    /// out = A x on the finest level, x's halo swapped first.
+    pub fn apply(&mut self, x: &[f64], out: &mut [f64]) {
+        let f = &mut self.levels[0];
+        f.part.fill_halo(x, &mut f.halo);
+        f.stencil.apply(x, &f.halo, out);
     }
 
     /// Number of levels, the finest included.
@@ -96,7 +144,7 @@ impl Multigrid {
         self.cycle(0);
         z.copy_from_slice(&self.levels[0].x);
         if self.singular {
-            remove_mean(z);
+            remove_mean(z, &self.levels[0].part);
         }
     }
 
@@ -104,6 +152,22 @@ impl Multigrid {
         let last = l + 1 == self.levels.len();
         let level = &mut self.levels[l];
         level.x.fill(0.0);
+        if let (true, Some(rest)) = (last, &mut self.rest) {
+            // Rank 0 runs the cycle on the whole level; each takes its slab.
+            let part = &level.part;
+            let mut whole = vec![0.0; part.slab.n.iter().product()];
+            if let (Some(b), Some(rest)) = (part.gather(&level.b), rest) {
+                rest.levels[0].b.copy_from_slice(&b);
+                rest.cycle(0);
+                whole.copy_from_slice(&rest.levels[0].x);
+            }
+            part.comm.broadcast(&mut whole);
+            let plane = whole.len() / part.slab.n[part.slab.axis];
+            level
+                .x
+                .copy_from_slice(&whole[part.slab.lo * plane..part.slab.hi * plane]);
+            return;
+        }
         if last {
             for _ in 0..COARSEST_SWEEPS {
                 sweep(level, 0);
@@ -112,7 +176,7 @@ impl Multigrid {
                 sweep(level, 0);
             }
             if self.singular {
-                remove_mean(&mut level.x);
+                remove_mean(&mut level.x, &level.part);
             }
             return;
         }
@@ -120,7 +184,8 @@ impl Multigrid {
             sweep(level, 0);
             sweep(level, 1);
         }
-        level.stencil.apply(&level.x, &mut level.r);
+        level.part.fill_halo(&level.x, &mut level.halo);
+        level.stencil.apply(&level.x, &level.halo, &mut level.r);
         for (r, b) in level.r.iter_mut().zip(&level.b) {
             *r = b - *r;
         }
@@ -143,11 +208,18 @@ impl Multigrid {
     }
 }
 
+/// One colour's sweep, the other colour's values beyond the slab swapped in
+/// first (a cell's neighbours are all of the other colour).
 fn sweep(level: &mut Level, colour: usize) {
-    level.stencil.gauss_seidel(&level.b, &mut level.x, colour);
+    level.part.fill_halo(&level.x, &mut level.halo);
+    level
+        .stencil
+        .gauss_seidel(&level.b, &mut level.x, &level.halo, colour);
 }
 
-pub fn remove_mean(x: &mut [f64]) {
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
+/// Takes the mean over the whole box (all of `part`'s ranks) from `x`.
+pub fn remove_mean(x: &mut [f64], part: &Part) {
+    let count = part.slab.n.iter().product::<usize>() as f64;
+    let mean = part.sum(x.iter().sum::<f64>()) / count;
     x.iter_mut().for_each(|v| *v -= mean);
 }

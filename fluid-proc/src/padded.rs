@@ -10,11 +10,14 @@
 //! - an outflow: constant extrapolation of the last face or cell;
 //! - periodic: the values from the other end.
 //!
+//! - another rank's slab (`part.rs`): its faces, swapped in.
+//!
 //! An axis one cell thick (the z of a 2-D flow) has no ghosts: it is
 //! periodic, and nothing varies along it.
 
 use crate::grid::Grid;
 use crate::mac::Faces;
+use crate::part::Part;
 use crate::side::{parabola, Side, Sides};
 
 /// Ghost layers per side: WENO5 reads three values beyond a face.
@@ -96,18 +99,28 @@ impl Layout {
     }
 }
 
-/// Component `c` of the velocity on its faces, with ghosts.
+/// Component `c` of the velocity on its faces, with ghosts: on this
+/// rank's slab of the box. Along the slab's axis its last face is the next
+/// rank's first, which that rank updates.
 #[derive(Debug, Clone)]
 pub struct Padded {
     /// The component (the axis its faces are normal to).
     pub c: usize,
     pub lay: Layout,
     pub data: Vec<f64>,
+    part: Part,
 }
 
 impl Padded {
+    /// On the whole box, one rank.
     pub fn new(grid: &Grid, sides: &Sides, c: usize) -> Padded {
-        let n = grid.n;
+        Padded::on(&Part::whole(grid.n, *sides), c)
+    }
+
+    /// On this rank's slab of the box.
+    pub fn on(part: &Part, c: usize) -> Padded {
+        let n = part.slab.cells();
+        let sides = part.local_sides();
         // The faces normal to c: one more than the cells along c.
         let mut lay = Layout::cells(n);
         lay.m[c] += 1;
@@ -121,7 +134,13 @@ impl Padded {
             c,
             lay,
             data: vec![0.0; dims.iter().product()],
+            part: part.clone(),
         }
+    }
+
+    /// The rank's part of the box the faces are on.
+    pub fn part(&self) -> &Part {
+        &self.part
     }
 
     /// Copies the component's faces (ghosts untouched).
@@ -152,7 +171,8 @@ impl Padded {
 
     /// Sets the side faces and fills the ghosts from the values inside, axis
     /// by axis over the whole range of the others, so edges and corners
-    /// come out right too.
+    /// come out right too. The slab's axis is the last with ghosts, so the
+    /// planes swapped with the neighbours carry their edges already.
     pub fn fill_ghosts(&mut self, sides: &Sides) {
         let lay = self.lay;
         for (a, &pair) in sides.iter().enumerate() {
@@ -163,26 +183,60 @@ impl Padded {
                 });
             }
         }
+        self.swap_ghosts();
+    }
+
+    /// The ghost planes along the slab's axis from the neighbouring ranks:
+    /// the three planes of cells (or faces) beyond each side; for the
+    /// normal component also the last face, the next rank's first.
+    fn swap_ghosts(&mut self) {
+        if !self.part.split() {
+            return;
+        }
+        let a = self.part.axis_of();
+        let (g, m) = (self.lay.g[a], self.lay.m[a]);
+        let plane = self.lay.stride[a];
+        // The entries of planes [from, to) along a (the slowest axis).
+        let planes = |from: usize, to: usize| from * plane..to * plane;
+        let shared = (self.c == a) as usize;
+        let down = self.data[planes(g, 2 * g + shared)].to_vec();
+        let up = self.data[planes(m - shared, m + g - shared)].to_vec();
+        let mut from_up = vec![0.0; down.len()];
+        let mut from_down = vec![0.0; up.len()];
+        self.part.swap(&down, &mut from_up, &up, &mut from_down);
+        if self.part.neighbour(true).is_some() {
+            self.data[planes(g + m - shared, 2 * g + m)].copy_from_slice(&from_up);
+        }
+        if self.part.neighbour(false).is_some() {
+            self.data[planes(0, g)].copy_from_slice(&from_down);
+        }
     }
 
     /// The shape factor of a parabolic side for the line along `a` whose
     /// entry 0 is at `base`: `parabola` of the line's place across each
-    /// other axis that is not periodic (1 on a line of a uniform side).
+    /// other axis that is not periodic (1 on a line of a uniform side), in
+    /// the whole box.
     fn profile(&self, sides: &Sides, base: usize, a: usize) -> f64 {
         if !sides[a].iter().any(|s| matches!(s, Side::Parabolic(_))) {
             return 1.0;
         }
         let lay = &self.lay;
         let dims = lay.dims();
+        let slab = &self.part.slab;
         let mut f = 1.0;
-        for t in (0..3).filter(|&t| t != a && sides[t][0] != Side::Periodic) {
+        for t in (0..3).filter(|&t| t != a && self.part.sides[t][0] != Side::Periodic) {
             let i = (base / lay.stride[t]) % dims[t];
-            let i = i as f64 - lay.g[t] as f64;
+            let mut i = i as f64 - lay.g[t] as f64;
+            let mut m = lay.m[t];
+            if t == slab.axis {
+                i += slab.lo as f64;
+                m += slab.n[t] - (slab.hi - slab.lo);
+            }
             // Faces along c sit at i·h, cells elsewhere at (i + ½)·h.
             let s = if t == self.c {
-                i / (lay.m[t] - 1) as f64
+                i / (m - 1) as f64
             } else {
-                (i + 0.5) / lay.m[t] as f64
+                (i + 0.5) / m as f64
             };
             // A ghost line beyond a wall takes the wall's value (zero).
             f *= parabola(s.clamp(0.0, 1.0));

@@ -2,9 +2,13 @@
 //! a multigrid V-cycle (`multigrid.rs`). With no Dirichlet side A is singular
 //! and b must have zero mean (the boundary fluxes balance); the solve then
 //! works mean-free and returns the mean-free φ.
+//!
+//! On a rank's slab (`part.rs`) every dot product is summed over the ranks,
+//! so all take the same steps and stop together.
 
 use crate::grid::Grid;
 use crate::multigrid::{remove_mean, Multigrid};
+use crate::part::{Halo, Part};
 
 #[derive(Debug, thiserror::Error)]
 pub enum SolveError {
@@ -19,7 +23,11 @@ pub enum SolveError {
 }
 
 pub struct Poisson {
+    /// The whole box.
     pub grid: Grid,
+    pub part: Part,
+    /// A cell field's planes beyond the slab (`halo_of`).
+    halo: Halo,
     mg: Multigrid,
     /// Stop when ‖b − Aφ‖ ≤ tolerance·max(‖b‖, ‖b − Aφ₀‖).
     pub tolerance: f64,
@@ -31,11 +39,23 @@ pub struct Poisson {
 }
 
 impl Poisson {
+    /// On a whole box, one rank.
     pub fn new(grid: &Grid, tolerance: f64) -> Poisson {
-        let n = grid.cells();
+        Poisson::on(
+            grid,
+            &Part::whole(grid.n, [[crate::side::Side::WALL; 2]; 3]),
+            tolerance,
+        )
+    }
+
+    /// On this rank's `part` of the box `grid`.
+    pub fn on(grid: &Grid, part: &Part, tolerance: f64) -> Poisson {
+        let n = part.slab.cells().iter().product();
         Poisson {
             grid: grid.clone(),
-            mg: Multigrid::new(grid),
+            part: part.clone(),
+            halo: Halo::default(),
+            mg: Multigrid::on(grid, part),
             tolerance,
             max_iterations: 500,
             r: vec![0.0; n],
@@ -46,8 +66,15 @@ impl Poisson {
     }
 
     /// out = A x.
-    pub fn apply(&self, x: &[f64], out: &mut [f64]) {
-        self.mg.stencil().apply(x, out);
+    pub fn apply(&mut self, x: &[f64], out: &mut [f64]) {
+        self.mg.apply(x, out);
+    }
+
+    /// The planes of cell field `x` beyond this rank's slab (empty on one
+    /// rank), swapped in from the neighbours.
+    pub fn halo_of(&mut self, x: &[f64]) -> &Halo {
+        self.part.fill_halo(x, &mut self.halo);
+        &self.halo
     }
 
     pub fn levels(&self) -> usize {
@@ -57,20 +84,23 @@ impl Poisson {
     /// Solve A φ = b from the guess in `phi`; returns the iterations taken.
     pub fn solve(&mut self, b: &[f64], phi: &mut [f64]) -> Result<usize, SolveError> {
         let singular = !self.grid.has_dirichlet();
-        self.mg.stencil().apply(phi, &mut self.r);
+        let part = &self.part;
+        let dot = |a: &[f64], b: &[f64]| part.sum(dot(a, b));
+        self.mg.apply(phi, &mut self.r);
         for (r, bi) in self.r.iter_mut().zip(b) {
             *r = bi - *r;
         }
         if singular {
-            remove_mean(&mut self.r);
+            remove_mean(&mut self.r, part);
         }
         // ‖b‖, of its mean-free part when A is singular: Σb² − N·mean².
+        let cells = self.grid.cells() as f64;
         let mean = if singular {
-            b.iter().sum::<f64>() / b.len() as f64
+            part.sum(b.iter().sum::<f64>()) / cells
         } else {
             0.0
         };
-        let norm_b = (dot(b, b) - b.len() as f64 * mean * mean).max(0.0).sqrt();
+        let norm_b = (dot(b, b) - cells * mean * mean).max(0.0).sqrt();
         let mut res = dot(&self.r, &self.r).sqrt();
         // Relative to the larger of b and the first residual: a guess far
         // from a tiny b (a field already nearly solenoidal) still stops.
@@ -83,7 +113,7 @@ impl Poisson {
         self.p.copy_from_slice(&self.z);
         let mut rz = dot(&self.r, &self.z);
         for it in 1..=self.max_iterations {
-            self.mg.stencil().apply(&self.p, &mut self.q);
+            self.mg.apply(&self.p, &mut self.q);
             let alpha = rz / dot(&self.p, &self.q);
             if !alpha.is_finite() {
                 return Err(SolveError::NonFinite);
@@ -99,7 +129,7 @@ impl Poisson {
             res = dot(&self.r, &self.r).sqrt();
             if res <= goal {
                 if singular {
-                    remove_mean(phi);
+                    remove_mean(phi, part);
                 }
                 return Ok(it);
             }

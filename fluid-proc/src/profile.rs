@@ -50,6 +50,7 @@ pub fn face_line(
         }
         Side::Outflow => inside[if s == 0 { 0 } else { n - 1 }].1,
         Side::Periodic => 0.5 * (inside[0].1 + inside[n - 1].1),
+        Side::Rank => unreachable!("the box's own sides face no rank"),
     };
     let ends = (side(0), side(1));
     let mut line = vec![(0.0, ends.0)];

@@ -6,6 +6,7 @@ use crate::compressible::{Compressible, GasSetup, GasSide};
 use crate::gas::{Gas, Primitive};
 use crate::grid::Grid;
 use crate::incompressible::{FlowSetup, Incompressible};
+use crate::part::Part;
 use crate::side::{bcs, Side};
 use coupler::scenario::flow::SideSpec;
 use coupler::scenario::FluidSection;
@@ -15,6 +16,11 @@ use std::sync::Arc;
 /// velocity (None when the section has no box, which the scenario check
 /// refuses for this model).
 pub fn flow_from(section: &FluidSection) -> Option<Incompressible> {
+    flow_on(section, Arc::new(Single))
+}
+
+/// [`flow_from`], this rank's slab of it (`part.rs`).
+pub fn flow_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Incompressible> {
     let b = section.flow_box?;
     let sides = section.resolved_sides()?.map(|s| {
         s.map(|s| match s {
@@ -30,12 +36,14 @@ pub fn flow_from(section: &FluidSection) -> Option<Incompressible> {
         h: b.spacing(),
         bc: bcs(&sides),
     };
-    let mut flow = Incompressible::new(FlowSetup {
+    let part = Part::on(comm, grid.n, sides);
+    let setup = FlowSetup {
         grid,
         sides,
         density: section.density(),
         nu: section.viscosity() / section.density(),
-    });
+    };
+    let mut flow = Incompressible::on(setup, part);
     if let Some(v) = section.initial_velocity {
         for (u, v) in flow.u.u.iter_mut().zip(v) {
             u.fill(v);

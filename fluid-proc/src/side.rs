@@ -16,6 +16,9 @@ pub enum Side {
     Outflow,
     /// Wraps to the opposite side, which must be periodic too.
     Periodic,
+    /// Another rank's cells are beyond (a side of a slab, `part.rs`): its
+    /// values are swapped in from there.
+    Rank,
 }
 
 /// Poiseuille's profile 4s(1 − s) across a channel, s from 0 at one wall
@@ -46,6 +49,7 @@ impl Side {
             Side::Velocity(_) | Side::Parabolic(_) => Bc::Neumann,
             Side::Outflow => Bc::Dirichlet,
             Side::Periodic => Bc::Periodic,
+            Side::Rank => Bc::Rank,
         }
     }
 

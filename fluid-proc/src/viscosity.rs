@@ -10,6 +10,9 @@
 //! coarse for the viscosity (air around a parachute, the cavity), so no
 //! preconditioner is used; a very viscous flow on fine cells takes more
 //! iterations.
+//!
+//! On a rank's slab (`part.rs`) the dot products are summed over the ranks
+//! (each face counted by the one rank that updates it).
 
 use crate::padded::Padded;
 use crate::side::Sides;
@@ -75,10 +78,11 @@ impl Helmholtz {
         let homogeneous = sides.map(|s| s.map(|s| s.homogeneous()));
         let lay = delta.lay;
         let range = lay.unknown_box();
+        let part = delta.part().clone();
         let dot = |x: &[f64], y: &[f64]| {
             let mut s = 0.0;
             lay.for_box(range, |_, p| s += x[p] * y[p]);
-            s
+            part.sum(s)
         };
         let norm_b = dot(b, b).sqrt();
         // r = b − (I − αL)δ, and the first direction p = r.
@@ -117,6 +121,7 @@ impl Helmholtz {
                 q[i] = v;
                 pq += p[i] * v;
             });
+            let pq = part.sum(pq);
             let step = rr / pq;
             if !step.is_finite() {
                 return Err(ViscousError {
@@ -132,6 +137,7 @@ impl Helmholtz {
                 r[i] -= step * q[i];
                 rr_new += r[i] * r[i];
             });
+            let rr_new = part.sum(rr_new);
             if rr_new.sqrt() <= goal {
                 return Ok(it);
             }

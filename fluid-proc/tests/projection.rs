@@ -45,6 +45,7 @@ fn case(n: [usize; 3], bc: [[Bc; 2]; 3], seed: u64) -> (Grid, Faces) {
                 (Bc::Neumann, Bc::Dirichlet) => 1.0 + 0.1 * rng.next(),
                 (Bc::Neumann, _) => 0.0,
                 (Bc::Dirichlet, _) => u.u[d][f],
+                (Bc::Rank, _) => unreachable!("one rank"),
             };
         }
     }

@@ -343,6 +343,21 @@ impl Scenario {
             let ranks = self.participants.fluid.as_ref().map_or(1, |f| f.ranks());
             if ranks > 1 {
                 check_ranks(c, s, ranks);
+                let shaped = self
+                    .rigid
+                    .as_ref()
+                    .is_some_and(|r| r.bodies.iter().any(|b| b.shape.is_some()));
+                if s.model == fluid::FluidModel::Incompressible
+                    && (self.participants.structure.is_some() || shaped)
+                {
+                    c.problem(
+                        &["participants", "fluid", "ranks"],
+                        format!(
+                            "ranks = {ranks}: a canopy or a body with a shape is in the \
+                             incompressible flow on one rank only so far: leave ranks out"
+                        ),
+                    );
+                }
             }
             let courant = s.start_courant(k.window).unwrap_or(0.0);
             if courant > flow::MAX_COURANT {
@@ -376,23 +391,37 @@ impl Scenario {
 }
 
 /// Whether the fluid can run on `ranks` ranks: a model split among ranks
-/// (euler, for now), and slabs at least as thick as the stencil's reach, so
-/// that each rank's halo comes from its two neighbours.
+/// (euler and incompressible), and slabs at least as thick as the
+/// stencil's reach, so that each rank's halo comes from its two neighbours.
 fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32) {
     let key = ["participants", "fluid", "ranks"];
-    if s.model != fluid::FluidModel::Euler {
+    if s.model == fluid::FluidModel::PorousFreeStream {
         c.problem(
             &key,
             format!(
-                "ranks = {ranks}: model = \"{}\" runs on one rank for now; only model = \"euler\" is split among ranks",
+                "ranks = {ranks}: model = \"{}\" has no cells to split and runs on one rank",
                 s.model.name()
             ),
         );
         return;
     }
     let Some(b) = s.flow_box else { return };
-    // The slab axis: the one with the most cells, the last of equals.
-    let axis = (0..3).rev().max_by_key(|&d| (b.cells[d], d)).unwrap_or(0);
+    let axis = if s.model == fluid::FluidModel::Euler {
+        // The one with the most cells, the last of equals.
+        (0..3).rev().max_by_key(|&d| (b.cells[d], d)).unwrap_or(0)
+    } else {
+        // The slowest in memory more than one cell thick (fluid-proc's part.rs).
+        match (1..3).rev().find(|&d| b.cells[d] > 1) {
+            Some(d) => d,
+            None => {
+                c.problem(
+                    &key,
+                    format!("ranks = {ranks}: the incompressible flow is split along y or z, and this box is one cell thick along both"),
+                );
+                return;
+            }
+        }
+    };
     if u64::from(b.cells[axis]) < u64::from(flow::HALO_CELLS) * u64::from(ranks) {
         c.problem(
             &key,

@@ -259,16 +259,30 @@ pub const CASES: &[Case] = &[
         line_of: Some("ranks = 0"),
     },
     Case {
-        name: "ranks-incompressible",
+        name: "ranks-canopy-in-flow",
         edit: |_| {
-            cavity_with(
+            shipped_with(
+                "sheet-updraft",
                 "program = \"fluid-proc\"",
                 "program = \"fluid-proc\"\nranks = 2",
             )
         },
         key: Some("participants.fluid.ranks"),
-        says: "only model = \"euler\" is split among ranks",
+        says:
+            "a canopy or a body with a shape is in the incompressible flow on one rank only so far",
         line_of: Some("ranks = 2"),
+    },
+    Case {
+        name: "ranks-incompressible-thinner-than-halo",
+        edit: |_| {
+            cavity_with(
+                "program = \"fluid-proc\"",
+                "program = \"fluid-proc\"\nranks = 50",
+            )
+        },
+        key: Some("participants.fluid.ranks"),
+        says: "leaves fewer than 3 cells per rank along y (128 cells)",
+        line_of: Some("ranks = 50"),
     },
     Case {
         name: "ranks-thinner-than-halo",

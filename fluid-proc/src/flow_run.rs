@@ -1,0 +1,244 @@
+//! fluid-proc's incompressible model, on one rank or several (part of the
+//! binary; `ranks.rs` says how they work together): one flow step per
+//! window (sub-steps when the coupler asks for them), the flow field
+//! written as `fluid.pvd`. Each rank steps its slab of the box
+//! (`part.rs`); rank 0 gathers the cells for the output.
+//!
+//! The bodies and the canopy in the flow are read and answered by rank 0,
+//! and are in the flow only on one rank so far (the scenario check refuses
+//! them with `ranks`).
+
+use crate::flow_bodies::FlowBodies;
+use crate::flow_canopy::FlowCanopy;
+use crate::ranks::{Order, Stopped};
+use crate::Error;
+use coupler::scenario::FluidSection;
+use coupler::vtu::{Image, Series};
+use coupler::{Command, Field, Monitor, Participant};
+use fluid_proc::comm::Comm;
+use fluid_proc::incompressible::{Incompressible, StepReport};
+use fluid_proc::mac::Faces;
+use fluid_proc::setup::flow_on;
+use std::sync::Arc;
+
+/// One rank's flow, and its faces at the start of the window.
+struct Flow {
+    flow: Incompressible,
+    before: Faces,
+}
+
+/// What obeying an order gave; only rank 0's is used.
+enum Done {
+    Monitors(Vec<Monitor>),
+    /// The box's cell velocities and pressures, on rank 0.
+    Output(Option<(Vec<f64>, Vec<f64>)>),
+    Advanced(Vec<Monitor>, u64),
+    Stop,
+}
+
+/// Obeys `order` on this rank (every rank calls it with the same order);
+/// a failed step fails on every rank together, with this message.
+fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
+    let flow = &mut f.flow;
+    Ok(match order {
+        Order::Monitors => Done::Monitors(monitors(flow, StepReport::default(), f64::NAN)),
+        Order::Output { .. } => {
+            let velocity = flow.part.gather(&flow.cell_velocity());
+            let pressure = flow.part.gather(&flow.pressure());
+            Done::Output(velocity.zip(pressure))
+        }
+        Order::Advance {
+            dt,
+            substeps,
+            window_end,
+        } => {
+            f.before.clone_from(&flow.u);
+            let n = substeps.max(1);
+            let mut report = StepReport::default();
+            for _ in 0..n {
+                report = flow
+                    .step(dt / n as f64)
+                    .map_err(|e| format!("flow step at t = {} s: {e}", flow.time))?;
+            }
+            let m = if window_end {
+                // How far from steady: max|∂u/∂t| over the window [m/s²].
+                let change = flow.max_change(&f.before) / dt;
+                monitors(flow, report, change)
+            } else {
+                Vec::new()
+            };
+            Done::Advanced(m, n as u64)
+        }
+        Order::Stop => Done::Stop,
+    })
+}
+
+fn monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> Vec<Monitor> {
+    let momentum = flow.momentum();
+    vec![
+        Monitor::new("kinetic_energy", flow.kinetic_energy()),
+        Monitor::new("momentum_x", momentum[0]),
+        Monitor::new("momentum_y", momentum[1]),
+        Monitor::new("momentum_z", momentum[2]),
+        Monitor::new("max_divergence", flow.max_divergence()),
+        Monitor::new("steady_residual", steady_residual),
+        Monitor::new("courant", r.courant),
+        Monitor::new("pressure_iterations", r.pressure_iterations as f64),
+        Monitor::new("viscous_iterations", r.viscous_iterations as f64),
+    ]
+}
+
+/// Rank 0 (or the only rank).
+pub fn lead(
+    p: &mut Participant,
+    section: &FluidSection,
+    comm: Arc<dyn Comm>,
+) -> Result<u64, Stopped> {
+    let c = comm.as_ref();
+    let flow = flow_on(section, comm.clone())
+        .ok_or_else(|| Stopped::before_order(c, "[fluid] has no box"))?;
+    let mut f = Flow {
+        before: flow.u.clone(),
+        flow,
+    };
+    let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
+    let mut bodies = FlowBodies::new(p.scenario(), &mut f.flow, origin)
+        .map_err(|e| Stopped::before_order(c, e))?;
+    let mut canopy = FlowCanopy::new(section, origin);
+    let with_canopy = p.is_connected(Field::CanopyPositions);
+    let shaped = f.flow.bodies.iter().any(|b| !b.markers.is_empty());
+    if comm.ranks() > 1 && (with_canopy || shaped) {
+        let msg = "a canopy or a body with a shape is in the flow on one rank only so far";
+        return Err(Stopped::before_order(c, msg));
+    }
+    let mut loads = vec![0.0; 6 * f.flow.bodies.len()];
+    let mut series = Series::new(p.run_dir(), "fluid");
+    let mut steps = 0u64;
+    loop {
+        let command = p.next_command().map_err(|e| Stopped::before_order(c, e))?;
+        let order = match &command {
+            Command::Initialize => Order::Monitors,
+            Command::Output { index, time } => Order::Output {
+                index: *index,
+                time: *time,
+            },
+            Command::Advance(a) => {
+                let flow = &mut f.flow;
+                if let Err(e) = place(p, &mut bodies, &mut canopy, with_canopy, flow) {
+                    let msg = format!("at t = {} s: {e}", flow.time);
+                    return Err(Stopped::before_order(c, fail(p, msg)));
+                }
+                Order::Advance {
+                    dt: a.dt,
+                    substeps: a.substeps,
+                    window_end: a.window_end,
+                }
+            }
+            Command::Stop => Order::Stop,
+            Command::Setup(_) => {
+                return Err(Stopped::before_order(c, "unexpected second setup"));
+            }
+        };
+        let done = obey(&mut f, order.share(c)).map_err(|msg| Stopped {
+            error: fail(p, msg),
+            together: true,
+        })?;
+        let flow = &mut f.flow;
+        match (command, done) {
+            (_, Done::Stop) => break,
+            (_, Done::Monitors(mut m)) => {
+                m.extend(bodies.monitors(flow, None));
+                if with_canopy {
+                    m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
+                }
+                p.done(m)?
+            }
+            (Command::Output { index, time }, Done::Output(Some((velocity, pressure)))) => {
+                let g = flow.grid();
+                let image = Image {
+                    origin,
+                    spacing: g.h,
+                    cells: g.n,
+                    cell_data: vec![("velocity", 3, &velocity), ("pressure", 1, &pressure)],
+                };
+                series.write_image(index, time, &image)?;
+                p.done(Vec::new())?
+            }
+            (Command::Advance(a), Done::Advanced(mut m, n)) => {
+                steps += n;
+                if p.is_connected(Field::BodyLoads) {
+                    // rigid-proc reads a load every window, bodies or none.
+                    bodies.take_loads(flow, &mut loads);
+                    p.write_field(Field::BodyLoads, loads.len(), |out| {
+                        out.copy_from_slice(&loads)
+                    })?;
+                }
+                if p.is_connected(Field::CanopyPressure) {
+                    let jumps = canopy.jumps(flow);
+                    p.write_field(Field::CanopyPressure, jumps.len(), |out| {
+                        out.copy_from_slice(jumps)
+                    })?;
+                }
+                if a.window_end {
+                    m.extend(bodies.monitors(flow, Some(&loads)));
+                    if with_canopy {
+                        m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
+                    }
+                }
+                p.done(m)?;
+            }
+            _ => unreachable!("each order comes from its command"),
+        }
+    }
+    Ok(steps)
+}
+
+/// Puts the bodies and the canopy where rigid-proc and the structure left
+/// them at the window's start.
+fn place(
+    p: &mut Participant,
+    bodies: &mut FlowBodies,
+    canopy: &mut FlowCanopy,
+    with_canopy: bool,
+    flow: &mut Incompressible,
+) -> Result<(), Error> {
+    if p.is_connected(Field::BodyStates) {
+        bodies.read(&p.read_field(Field::BodyStates)?, flow)?;
+    }
+    if with_canopy {
+        if canopy.needs_triangles() {
+            canopy.set_triangles(&p.read_field(Field::CanopyTriangles)?);
+        }
+        let x = p.read_field(Field::CanopyPositions)?;
+        let v = p.read_field(Field::CanopyVelocities)?;
+        canopy.place(&x, &v, flow)?;
+    }
+    Ok(())
+}
+
+/// Tells the coupler the run failed with `msg` and gives it back as the
+/// error to stop on (the coupler's own error if even telling it failed).
+pub fn fail(p: &mut Participant, msg: String) -> Error {
+    match p.fail(msg.clone()) {
+        Ok(()) => msg.into(),
+        Err(e) => e.into(),
+    }
+}
+
+/// A rank other than 0: obeys rank 0's orders until it stops, or until a
+/// step fails (rank 0 meets the same failure and reports it).
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+pub fn follow(section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Error> {
+    let flow = flow_on(section, comm.clone()).ok_or("[fluid] has no box")?;
+    let mut f = Flow {
+        before: flow.u.clone(),
+        flow,
+    };
+    loop {
+        let order = Order::Stop.share(comm.as_ref());
+        match obey(&mut f, order) {
+            Ok(Done::Stop) | Err(_) => return Ok(()),
+            Ok(_) => {}
+        }
+    }
+}
