@@ -9,6 +9,7 @@
 //! The protocol is described for solver authors in `docs/PROTOCOL.md`.
 
 pub mod channel;
+pub mod mpirun;
 pub mod names;
 pub mod participant;
 pub mod protocol;

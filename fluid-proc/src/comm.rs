@@ -3,11 +3,13 @@
 //! one rank alone (the default build), and `mpi_comm.rs` (feature `mpi`)
 //! is the same on MPI.
 //!
-//! The box is cut into slabs along its longest axis: the simplest
-//! decomposition that is exactly as correct as the whole box. Every cell is
-//! computed from the same neighbours either way (the halo carries the
-//! stencil's three layers), so the fields do not depend on the number of
-//! ranks; only sums over cells change by round-off.
+//! The box is cut into slabs ([`Slab`]): the simplest decomposition that is
+//! exactly as correct as the whole box. Every cell is computed from the
+//! same neighbours either way (the halo carries the stencil's layers), so
+//! the fields do not depend on the number of ranks; only sums over cells
+//! change by round-off. The gas is cut along its longest axis
+//! ([`Slab::axis`]), the incompressible flow along its slowest thick one
+//! (`part.rs`).
 
 use std::fmt::Debug;
 
@@ -67,7 +69,7 @@ pub struct Slab {
 }
 
 impl Slab {
-    /// The axis a box is cut along: the one with the most cells, the last
+    /// The axis the gas's box is cut along: the one with the most cells, the last
     /// of equals (the slowest in memory, so a slab is one block).
     pub fn axis(n: [usize; 3]) -> usize {
         (0..3).rev().max_by_key(|&d| (n[d], d)).unwrap_or(0)

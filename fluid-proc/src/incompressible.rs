@@ -126,7 +126,8 @@ impl Incompressible {
         setup.grid.bc = bcs(&setup.sides);
         let global = setup.grid.clone();
         let grid = part.local_grid(&global);
-        let active = |c: usize| grid.n[c] > 1;
+        // From the whole box, so that every rank has the same components.
+        let active = |c: usize| global.n[c] > 1;
         let padded = [0, 1, 2].map(|c| active(c).then(|| Padded::on(&part, c)));
         let work = padded.clone().map(|p| {
             p.map(|p| {
@@ -311,8 +312,13 @@ impl Incompressible {
             u.fill_ghosts(sides);
             u.store(&mut self.u);
         }
-        let mut forced: Vec<&mut ImmersedBody> =
-            self.bodies.iter_mut().chain(self.canopy.as_mut()).collect();
+        // A body without markers (a mass point) is not in the flow.
+        let mut forced: Vec<&mut ImmersedBody> = self
+            .bodies
+            .iter_mut()
+            .chain(self.canopy.as_mut())
+            .filter(|b| !b.markers.is_empty())
+            .collect();
         if !forced.is_empty() {
             // The forcing acts on u* before the projection, so the projected
             // field is divergence-free with the bodies and canopy in it.

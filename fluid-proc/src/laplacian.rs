@@ -44,18 +44,13 @@ pub struct Stencil {
     lines: Vec<Line>,
     /// x wraps (periodic and more than one cell).
     x_wraps: bool,
-    /// The slab's axis and 1/h² along it, where a side faces another rank.
+    /// 1/h² along the slab's axis, where a side faces another rank.
     halo_weight: f64,
     /// The first cell's place along the slab's axis in the whole box, mod 2.
     parity: usize,
 }
 
 impl Stencil {
-    /// On a whole box.
-    pub fn new(g: &Grid) -> Stencil {
-        Stencil::on(g, 0)
-    }
-
     /// On a rank's slab `g`, whose first cell along the slab's axis is the
     /// box's cell `offset` there.
     pub fn on(g: &Grid, offset: usize) -> Stencil {

@@ -11,9 +11,17 @@
 //!
 //! Split among ranks (`part.rs`), each rank smooths its slab of each level,
 //! its halo swapped before every sweep, as long as the slabs halve with the
-//! grid. From the first level whose next one they cannot (its cells would
-//! straddle two ranks), rank 0 gathers the level and runs the rest of the
-//! cycle on the whole of it: the same cycle as on one rank.
+//! grid. At the last level (the coarsest, or the first whose slabs cannot
+//! halve again: the next level's cells would straddle two ranks), rank 0
+//! gathers the level and runs the rest of the cycle on the whole of it: the
+//! same cycle as on one rank. Slab bounds that are not even (32 cells on 3
+//! ranks) gather the finest level itself, and the preconditioner then runs
+//! on rank 0 alone: correct, but slow.
+//!
+//! On a periodic slab axis of an odd number of cells the first and last
+//! cells have one colour, so one rank's sweep reads the other's new value
+//! where split ranks read its old one: the fields then agree to the solve's
+//! tolerance rather than to round-off.
 
 use crate::grid::Grid;
 use crate::laplacian::Stencil;

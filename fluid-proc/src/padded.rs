@@ -8,14 +8,12 @@
 //!   ghosts mirror oddly about the side, half a cell away (2U − u);
 //! - a parabolic inflow: the same, U times the profile at the face's place;
 //! - an outflow: constant extrapolation of the last face or cell;
-//! - periodic: the values from the other end.
-//!
+//! - periodic: the values from the other end;
 //! - another rank's slab (`part.rs`): its faces, swapped in.
 //!
 //! An axis one cell thick (the z of a 2-D flow) has no ghosts: it is
 //! periodic, and nothing varies along it.
 
-use crate::grid::Grid;
 use crate::mac::Faces;
 use crate::part::Part;
 use crate::side::{parabola, Side, Sides};
@@ -112,11 +110,6 @@ pub struct Padded {
 }
 
 impl Padded {
-    /// On the whole box, one rank.
-    pub fn new(grid: &Grid, sides: &Sides, c: usize) -> Padded {
-        Padded::on(&Part::whole(grid.n, *sides), c)
-    }
-
     /// On this rank's slab of the box.
     pub fn on(part: &Part, c: usize) -> Padded {
         let n = part.slab.cells();

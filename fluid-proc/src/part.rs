@@ -34,7 +34,9 @@ impl Part {
         (0..3).rev().find(|&d| n[d] > 1).unwrap_or(0)
     }
 
-    /// This rank's part of a box of `n` cells with `sides`.
+    /// This rank's part of a box of `n` cells with `sides`: slabs of at
+    /// least `padded::GHOSTS` cells (the scenario check makes sure), so
+    /// that each rank's ghosts come from its two neighbours.
     pub fn on(comm: Arc<dyn Comm>, n: [usize; 3], sides: Sides) -> Part {
         let slab = Slab::along(n, Part::axis(n), comm.ranks(), comm.rank());
         Part { comm, slab, sides }

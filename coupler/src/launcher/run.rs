@@ -226,8 +226,8 @@ async fn supervise_run(
             env.push((names::ENV_ROLE, role.name().to_string()));
             let (path, args) = match (&checked.mpirun, spec.ranks()) {
                 (Some(mpirun), ranks) if ranks > 1 => {
-                    env.extend(mpi_env(ranks));
-                    (mpirun, mpirun_args(ranks, path, &spec.args))
+                    env.extend(crate::mpirun::env(ranks));
+                    (mpirun, crate::mpirun::args(ranks, path, &spec.args))
                 }
                 _ => (path, spec.args.clone()),
             };
@@ -462,29 +462,4 @@ fn manifest(
         "processes": processes,
         "exchange_total_s": exchange_total,
     })
-}
-
-/// `mpirun`'s arguments to start `program args` on `ranks` ranks. More
-/// ranks than cores are allowed (`--oversubscribe`): a run asks for ranks
-/// for its decomposition, not for its speed alone.
-fn mpirun_args(ranks: u32, program: &std::path::Path, args: &[String]) -> Vec<String> {
-    let mut all = vec![
-        "-n".to_string(),
-        ranks.to_string(),
-        "--oversubscribe".to_string(),
-        program.display().to_string(),
-    ];
-    all.extend(args.iter().cloned());
-    all
-}
-
-/// What the ranks need in their environment: their count, and OpenMPI's
-/// consent to run as root (containers and CI run as root; mpirun refuses
-/// it otherwise).
-fn mpi_env(ranks: u32) -> [(&'static str, String); 3] {
-    [
-        (names::ENV_RANKS, ranks.to_string()),
-        ("OMPI_ALLOW_RUN_AS_ROOT", "1".to_string()),
-        ("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1".to_string()),
-    ]
 }
