@@ -53,9 +53,16 @@ pub struct Multigrid {
     levels: Vec<Level>,
     /// No Dirichlet side: A is singular and every level works mean-free.
     singular: bool,
-    /// Split among ranks: the last level, whole, and the cycle from it (on
-    /// rank 0; None on the others).
-    rest: Option<Option<Box<Multigrid>>>,
+    /// Split among ranks: what the last level is solved with.
+    rest: Option<Rest>,
+}
+
+/// The last level of a split multigrid, whole.
+struct Rest {
+    /// Its correction, from rank 0.
+    whole: Vec<f64>,
+    /// The cycle from it on one rank (on rank 0; None on the others).
+    serial: Option<Box<Multigrid>>,
 }
 
 impl Multigrid {
@@ -83,7 +90,10 @@ impl Multigrid {
         }
         let rest = part.split().then(|| {
             let last = grids.last().unwrap();
-            (part.comm.rank() == 0).then(|| Box::new(Multigrid::new(last)))
+            Rest {
+                whole: vec![0.0; last.cells()],
+                serial: (part.comm.rank() == 0).then(|| Box::new(Multigrid::new(last))),
+            }
         });
         let locals: Vec<Grid> = grids
             .iter()
@@ -163,13 +173,13 @@ impl Multigrid {
         if let (true, Some(rest)) = (last, &mut self.rest) {
             // Rank 0 runs the cycle on the whole level; each takes its slab.
             let part = &level.part;
-            let mut whole = vec![0.0; part.slab.n.iter().product()];
-            if let (Some(b), Some(rest)) = (part.gather(&level.b), rest) {
-                rest.levels[0].b.copy_from_slice(&b);
-                rest.cycle(0);
-                whole.copy_from_slice(&rest.levels[0].x);
+            let whole = &mut rest.whole;
+            if let (Some(b), Some(serial)) = (part.gather(&level.b), &mut rest.serial) {
+                serial.levels[0].b.copy_from_slice(&b);
+                serial.cycle(0);
+                whole.copy_from_slice(&serial.levels[0].x);
             }
-            part.comm.broadcast(&mut whole);
+            part.comm.broadcast(whole);
             let plane = whole.len() / part.slab.n[part.slab.axis];
             level
                 .x
