@@ -118,10 +118,11 @@ impl FlowBodies {
         }
     }
 
-    /// Monitors of each body with a shape: the force from `loads`, and the
-    /// pressure force of eq. (2.40) alone (NaN before the first window).
-    pub fn monitors(&self, flow: &Incompressible, loads: Option<&[f64]>) -> Vec<Monitor> {
-        let pressure = loads.map(|_| flow.pressure());
+    /// Monitors of each body with a shape: the force from the `loads`, and
+    /// the pressure force of eq. (2.40) alone from the whole box's
+    /// `pressure` [Pa] (both NaN before the first window).
+    pub fn monitors(&self, flow: &Incompressible, read: Option<(&[f64], &[f64])>) -> Vec<Monitor> {
+        let (loads, pressure) = (read.map(|r| r.0), read.map(|r| r.1));
         let g = flow.grid();
         let spacing = g.spacing_range().0;
         let mut out = Vec::new();
@@ -130,7 +131,7 @@ impl FlowBodies {
             if s.is_none() {
                 continue;
             }
-            let by_pressure = pressure.as_deref().map(|p| {
+            let by_pressure = pressure.map(|p| {
                 let surface = RETRACTION * spacing;
                 pressure_load(g, p, &immersed.markers, immersed.centre, spacing, surface).0
             });

@@ -7,6 +7,7 @@ use crate::clearance::keep_clear;
 use coupler::scenario::FluidSection;
 use fluid_proc::canopy::{porous_law, sheet_markers};
 use fluid_proc::coating::Coating;
+use fluid_proc::grid::Grid;
 use fluid_proc::immersed::ImmersedBody;
 use fluid_proc::incompressible::Incompressible;
 use fluid_proc::{check_triangles, triangles_from_field, Porous};
@@ -102,13 +103,12 @@ impl FlowCanopy {
 
     /// The pressure jump p⁻ − p⁺ across each triangle where it was last
     /// placed [Pa] (seed 000 §3.3.2; the load is jump·area·n, n the normal
-    /// of the vertex order).
-    pub fn jumps(&mut self, flow: &Incompressible) -> &[f64] {
+    /// of the vertex order), from the `pressure` [Pa] of the whole box `g`.
+    pub fn jumps(&mut self, g: &Grid, pressure: &[f64]) -> &[f64] {
         let triangles = self.triangles.as_deref().unwrap_or(&[]);
-        let g = flow.grid();
         self.jumps.resize(triangles.len(), 0.0);
         let coating = Coating::new(g, &self.x, triangles);
-        coating.jumps(g, &flow.pressure(), &self.x, triangles, &mut self.jumps);
+        coating.jumps(g, pressure, &self.x, triangles, &mut self.jumps);
         &self.jumps
     }
 

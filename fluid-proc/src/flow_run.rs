@@ -4,9 +4,12 @@
 //! written as `fluid.pvd`. Each rank steps its slab of the box
 //! (`part.rs`); rank 0 gathers the cells for the output.
 //!
-//! The bodies and the canopy in the flow are read and answered by rank 0,
-//! and are in the flow only on one rank so far (the scenario check refuses
-//! them with `ranks`).
+//! The bodies and the canopy in the flow are read and answered by rank 0:
+//! it places them and shares their markers with the other ranks each
+//! window (`Incompressible::share_bodies`; every rank forces its own
+//! faces). The bodies' loads are the forcing rank 0 records; the canopy's
+//! pressure jump and the bodies' pressure force it reads from the pressure
+//! it gathers.
 
 use crate::flow_bodies::FlowBodies;
 use crate::flow_canopy::FlowCanopy;
@@ -32,7 +35,9 @@ enum Done {
     Monitors(Vec<Monitor>),
     /// The box's cell velocities and pressures, on rank 0.
     Output(Option<(Vec<f64>, Vec<f64>)>),
-    Advanced(Vec<Monitor>, u64),
+    /// Monitors, steps taken, and on rank 0 the box's pressure [Pa] where
+    /// the canopy or the bodies' monitors read it.
+    Advanced(Vec<Monitor>, u64, Option<Vec<f64>>),
     Stop,
 }
 
@@ -53,6 +58,7 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
             window_end,
         } => {
             f.before.clone_from(&flow.u);
+            flow.share_bodies();
             let n = substeps.max(1);
             let mut report = StepReport::default();
             for _ in 0..n {
@@ -67,7 +73,13 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
             } else {
                 Vec::new()
             };
-            Done::Advanced(m, n as u64)
+            let shaped = flow.bodies.iter().any(|b| !b.markers.is_empty());
+            let pressure = if flow.canopy.is_some() || (window_end && shaped) {
+                flow.part.gather(&flow.pressure())
+            } else {
+                None
+            };
+            Done::Advanced(m, n as u64, pressure)
         }
         Order::Stop => Done::Stop,
     })
@@ -106,11 +118,6 @@ pub fn lead(
         .map_err(|e| Stopped::before_order(c, e))?;
     let mut canopy = FlowCanopy::new(section, origin);
     let with_canopy = p.is_connected(Field::CanopyPositions);
-    let shaped = f.flow.bodies.iter().any(|b| !b.markers.is_empty());
-    if comm.ranks() > 1 && (with_canopy || shaped) {
-        let msg = "a canopy or a body with a shape is in the flow on one rank only so far";
-        return Err(Stopped::before_order(c, msg));
-    }
     let mut loads = vec![0.0; 6 * f.flow.bodies.len()];
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
@@ -164,7 +171,7 @@ pub fn lead(
                 series.write_image(index, time, &image)?;
                 p.done(Vec::new())?
             }
-            (Command::Advance(a), Done::Advanced(mut m, n)) => {
+            (Command::Advance(a), Done::Advanced(mut m, n, pressure)) => {
                 steps += n;
                 if p.is_connected(Field::BodyLoads) {
                     // rigid-proc reads a load every window, bodies or none.
@@ -174,13 +181,15 @@ pub fn lead(
                     })?;
                 }
                 if p.is_connected(Field::CanopyPressure) {
-                    let jumps = canopy.jumps(flow);
+                    let pressure = pressure.as_deref().ok_or("the canopy is not in the flow")?;
+                    let jumps = canopy.jumps(flow.grid(), pressure);
                     p.write_field(Field::CanopyPressure, jumps.len(), |out| {
                         out.copy_from_slice(jumps)
                     })?;
                 }
                 if a.window_end {
-                    m.extend(bodies.monitors(flow, Some(&loads)));
+                    let read = pressure.as_deref().map(|p| (&loads[..], p));
+                    m.extend(bodies.monitors(flow, read));
                     if with_canopy {
                         m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
                     }

@@ -28,9 +28,11 @@
 //! the inner fluid's share of it, ρ/ρ_body of the body's own change of
 //! angular momentum, is left out.
 
+use crate::comm::Slab;
 use crate::delta::{stencil, WIDTH};
 use crate::grid::{Bc, Grid};
 use crate::mac::Faces;
+use crate::part::Part;
 use crate::surface::{enclosed_volume, Marker, Surface};
 use nalgebra::Isometry3;
 
@@ -155,6 +157,50 @@ impl ImmersedBody {
         ]
     }
 
+    /// Appends where the body is and how it moves (not what it has given
+    /// the fluid) to `out`, as numbers for a broadcast ([`Self::decode`]).
+    pub fn encode(&self, out: &mut Vec<f64>) {
+        debug_assert_eq!(self.markers.len(), self.targets.len());
+        let [a, b] = self.porous.unwrap_or([f64::NAN; 2]);
+        out.extend([self.markers.len() as f64, a, b, self.sheet as u8 as f64]);
+        out.extend(self.centre.iter().chain(&self.velocity).chain(&self.spin));
+        out.push(self.volume);
+        for (k, v) in self.markers.iter().zip(&self.targets) {
+            out.extend(k.x.iter().chain(&k.normal).chain([&k.area]).chain(v));
+        }
+    }
+
+    /// A body as [`Self::encode`] wrote it, taken from the front of `x`.
+    pub fn decode(x: &mut impl Iterator<Item = f64>) -> ImmersedBody {
+        let [n, a, b, sheet] = take(x);
+        let [centre, velocity, spin] = [take(x), take(x), take(x)];
+        let [volume] = take(x);
+        let (markers, targets) = (0..n as usize)
+            .map(|_| {
+                let (at, normal, [area]) = (take(x), take(x), take(x));
+                (
+                    Marker {
+                        x: at,
+                        normal,
+                        area,
+                    },
+                    take(x),
+                )
+            })
+            .unzip();
+        ImmersedBody {
+            markers,
+            targets,
+            porous: (!a.is_nan()).then_some([a, b]),
+            sheet: sheet != 0.0,
+            centre,
+            velocity,
+            spin,
+            volume,
+            ..ImmersedBody::default()
+        }
+    }
+
     /// The fluid's mean force [N] and torque about the centre [N·m] on the
     /// body since the last call, for a fluid of this density [kg/m³]; zero
     /// before any step.
@@ -176,17 +222,26 @@ impl ImmersedBody {
     }
 }
 
+/// The next N numbers of an encoded body.
+fn take<const N: usize>(x: &mut impl Iterator<Item = f64>) -> [f64; N] {
+    std::array::from_fn(|_| x.next().expect("an encoded body is whole"))
+}
+
 /// The faces of component `c` a point's kernel reaches and their weights:
 /// along each axis WIDTH lattice places (faces along c at i·h, cells
 /// elsewhere at (i + ½)·h), wrapped round a periodic axis; a place outside
-/// the box, or a side face, gets no weight.
+/// the box, or a side face, gets no weight. Split among ranks, only the
+/// places of this rank's `slab` keep their weight, numbered from its low
+/// side: its cells [lo, hi) along the slab axis, and for the slab axis's
+/// own component the faces [lo, hi), the face at hi being the rank
+/// above's (`part.rs`).
 struct Reach {
     index: [[usize; WIDTH]; 3],
     weight: [[f64; WIDTH]; 3],
 }
 
 impl Reach {
-    fn new(grid: &Grid, c: usize, x: [f64; 3]) -> Reach {
+    fn new(grid: &Grid, slab: &Slab, c: usize, x: [f64; 3]) -> Reach {
         let mut index = [[0; WIDTH]; 3];
         let mut weight = [[0.0; WIDTH]; 3];
         for d in 0..3 {
@@ -204,6 +259,14 @@ impl Reach {
                     index[d][j] = i as usize;
                     weight[d][j] = w[j];
                 }
+            }
+        }
+        let a = slab.axis;
+        for j in 0..WIDTH {
+            if (slab.lo..slab.hi).contains(&index[a][j]) {
+                index[a][j] -= slab.lo;
+            } else {
+                weight[a][j] = 0.0;
             }
         }
         Reach { index, weight }
@@ -252,6 +315,35 @@ fn interpolate(u: &Faces, m: &[[usize; 3]; 3], r: &Reaches) -> [f64; 3] {
     v
 }
 
+/// The air's velocity [m/s] at each marker of the bodies `pick` chooses
+/// (none at the others'). Split among ranks, each interpolates from its own
+/// faces and the shares are summed over the ranks, so that every rank sees
+/// the whole kernel's and computes the same forcing.
+fn air_at(
+    u: &Faces,
+    m: &[[usize; 3]; 3],
+    reach: &[Vec<Reaches>],
+    pick: impl Fn(usize) -> bool,
+    part: &Part,
+) -> Vec<Vec<[f64; 3]>> {
+    let mut air: Vec<Vec<[f64; 3]>> = reach
+        .iter()
+        .enumerate()
+        .map(|(b, r)| match pick(b) {
+            true => r.iter().map(|r| interpolate(u, m, r)).collect(),
+            false => Vec::new(),
+        })
+        .collect();
+    if part.split() {
+        let mut shares: Vec<f64> = air.iter().flatten().flatten().copied().collect();
+        part.comm.sum(&mut shares);
+        for (v, s) in air.iter_mut().flatten().zip(shares.chunks_exact(3)) {
+            v.copy_from_slice(s);
+        }
+    }
+    air
+}
+
 impl ImmersedBody {
     /// Notes momentum per unit density `push` [m⁴/s] given to the fluid at
     /// x, and its moment about the centre.
@@ -275,6 +367,11 @@ impl ImmersedBody {
 /// body what the forcing gave the fluid. The periodic repeat faces (face n
 /// of a periodic axis) are left for the caller to make equal again.
 ///
+/// `grid` is the whole box and `u` this rank's `part` of it. Split among
+/// ranks, every rank holds every body's markers, forces its own faces and
+/// records the whole forcing (`air_at`); the faces a slab shares with the
+/// rank below are the caller's to copy down, as the periodic repeats.
+///
 /// A sheet (`ImmersedBody::place_sheet`) is a fabric, whose load is the
 /// pressure jump across it, a normal force: by Newton's third law the air
 /// gets only a normal force back, and slips along the sheet. A closed sheet
@@ -285,7 +382,14 @@ impl ImmersedBody {
 /// w + κ(a·w + b·w|w|) = w̃ with w̃ before it and κ = Δt·(3/8)/(ρh), the
 /// sheet's response to its own force (implicit, so a stiff fabric is no
 /// limit on the step; the spread force is Δp(w) whatever κ is).
-pub fn force(grid: &Grid, u: &mut Faces, dt: f64, density: f64, bodies: &mut [&mut ImmersedBody]) {
+pub fn force(
+    grid: &Grid,
+    part: &Part,
+    u: &mut Faces,
+    dt: f64,
+    density: f64,
+    bodies: &mut [&mut ImmersedBody],
+) {
     let active: Vec<usize> = (0..3).filter(|&d| grid.n[d] > 1).collect();
     // ΔV_k = ΔA_k·h with h the mean spacing across the flow's own axes.
     let spacing = active
@@ -295,7 +399,7 @@ pub fn force(grid: &Grid, u: &mut Faces, dt: f64, density: f64, bodies: &mut [&m
         .powf(1.0 / active.len() as f64);
     let cell: f64 = grid.h.iter().product();
     let m = [0, 1, 2].map(|c| {
-        let mut m = grid.n;
+        let mut m = part.slab.cells();
         m[c] += 1;
         m
     });
@@ -304,7 +408,9 @@ pub fn force(grid: &Grid, u: &mut Faces, dt: f64, density: f64, bodies: &mut [&m
         .map(|b| {
             b.markers
                 .iter()
-                .map(|k| [0, 1, 2].map(|c| (grid.n[c] > 1).then(|| Reach::new(grid, c, k.x))))
+                .map(|k| {
+                    [0, 1, 2].map(|c| (grid.n[c] > 1).then(|| Reach::new(grid, &part.slab, c, k.x)))
+                })
                 .collect()
         })
         .collect();
@@ -319,10 +425,10 @@ pub fn force(grid: &Grid, u: &mut Faces, dt: f64, density: f64, bodies: &mut [&m
     // Every marker reads the same field, then all spread (Uhlmann's
     // explicit forcing), so the order of the markers does not matter.
     let mut pushes: Vec<Vec<[f64; 3]>> = vec![Vec::new(); bodies.len()];
+    let air = air_at(u, &m, &reach, |b| bodies[b].porous.is_some(), part);
     for (b, body) in bodies.iter().enumerate() {
         let Some([a, bb]) = body.porous else { continue };
-        for ((k, r), v) in body.markers.iter().zip(&reach[b]).zip(&body.targets) {
-            let air = interpolate(u, &m, r);
+        for ((k, air), v) in body.markers.iter().zip(&air[b]).zip(&body.targets) {
             let n = k.normal;
             let seen: f64 = (0..3).map(|d| (air[d] - v[d]) * n[d]).sum();
             let linear = 1.0 + kappa * a;
@@ -344,14 +450,14 @@ pub fn force(grid: &Grid, u: &mut Faces, dt: f64, density: f64, bodies: &mut [&m
     };
     apply(&pushes, u, bodies);
     for _ in 0..FORCING_PASSES {
+        // Across a porous sheet the drag did the work.
+        let air = air_at(u, &m, &reach, |b| bodies[b].porous.is_none(), part);
         for (b, body) in bodies.iter().enumerate() {
             pushes[b].clear();
             if body.porous.is_some() {
-                // Across a porous sheet the drag did the work.
                 continue;
             }
-            for ((k, r), v) in body.markers.iter().zip(&reach[b]).zip(&body.targets) {
-                let air = interpolate(u, &m, r);
+            for ((k, air), v) in body.markers.iter().zip(&air[b]).zip(&body.targets) {
                 let mut e = [0, 1, 2].map(|d| v[d] - air[d]);
                 if body.sheet {
                     let across: f64 = (0..3).map(|d| e[d] * k.normal[d]).sum();

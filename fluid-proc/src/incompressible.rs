@@ -189,6 +189,35 @@ impl Incompressible {
         }
     }
 
+    /// Rank 0's bodies and canopy, as it last placed them, on every rank:
+    /// each rank forces its own faces from every marker (`immersed::force`).
+    /// Nothing to do on one rank.
+    pub fn share_bodies(&mut self) {
+        let comm = self.part.comm.as_ref();
+        if comm.ranks() == 1 {
+            return;
+        }
+        let mut x = Vec::new();
+        if comm.rank() == 0 {
+            x.extend([self.bodies.len() as f64, self.canopy.is_some() as u8 as f64]);
+            for b in self.bodies.iter().chain(&self.canopy) {
+                b.encode(&mut x);
+            }
+        }
+        let mut len = [x.len() as f64];
+        comm.broadcast(&mut len);
+        x.resize(len[0] as usize, 0.0);
+        comm.broadcast(&mut x);
+        if comm.rank() != 0 {
+            let mut x = x.into_iter();
+            let (bodies, canopy) = (x.next().unwrap_or(0.0), x.next().unwrap_or(0.0));
+            self.bodies = (0..bodies as usize)
+                .map(|_| ImmersedBody::decode(&mut x))
+                .collect();
+            self.canopy = (canopy != 0.0).then(|| ImmersedBody::decode(&mut x));
+        }
+    }
+
     /// Pressure p = ρq per cell at the last half step [Pa].
     pub fn pressure(&self) -> Vec<f64> {
         self.q.iter().map(|q| q * self.setup.density).collect()
@@ -322,11 +351,8 @@ impl Incompressible {
         if !forced.is_empty() {
             // The forcing acts on u* before the projection, so the projected
             // field is divergence-free with the bodies and canopy in it.
-            assert!(
-                !self.part.split(),
-                "bodies and canopies are forced on one rank only"
-            );
-            force(grid, &mut self.u, dt, self.setup.density, &mut forced);
+            let (global, density) = (&self.setup.grid, self.setup.density);
+            force(global, &self.part, &mut self.u, dt, density, &mut forced);
             self.impose_sides();
         }
         let grid = &self.local;

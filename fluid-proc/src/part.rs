@@ -7,7 +7,8 @@
 //! three, `padded.rs`) or a halo plane (the pressure's one, [`Halo`]) before
 //! they are read. Every cell is then computed from the same values as on one
 //! rank, so the fields do not depend on the number of ranks; only sums over
-//! cells (dot products, monitors) change, by round-off.
+//! cells (dot products, monitors) and over the ranks' shares of a marker's
+//! kernel (`immersed.rs`) change, by round-off.
 //!
 //! On one rank the part is the whole box and nothing is swapped.
 

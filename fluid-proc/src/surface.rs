@@ -92,7 +92,7 @@ impl Surface {
                 continue;
             };
             let length = (e1 - e0).norm();
-            let pieces = (length / spacing).ceil().max(1.0) as usize;
+            let pieces = (length / (spacing * (1.0 + EDGE_SLACK))).ceil().max(1.0) as usize;
             for k in 0..pieces {
                 let at = e0 + (e1 - e0) * ((k as f64 + 0.5) / pieces as f64);
                 out.push(Marker {
@@ -126,8 +126,15 @@ pub fn enclosed_volume(markers: &[Marker], centre: [f64; 3], dimensions: usize) 
 /// whole triangle, and the marker it makes.
 pub type Piece = ([f64; 3], Marker);
 
+/// How far past `spacing` an edge (or a section's segment) may be and stay
+/// whole, relative. A mesh laid out one cell apart (a cloth of the box's
+/// spacing) has edges of exactly `spacing`, which round-off in the vertices' positions would
+/// otherwise cut or not from one window to the next, and from one run to
+/// another (the same run on 1 and 2 ranks).
+const EDGE_SLACK: f64 = 1e-6;
+
 /// Cuts triangle abc along its longest edge until every edge is at most
-/// `spacing`, and calls `f` with each piece's centroid (as barycentric
+/// `spacing` (`EDGE_SLACK`), and calls `f` with each piece's centroid (as barycentric
 /// coordinates in abc) and its marker (normal by the vertex order).
 pub fn pieces([a, b, c]: [Point3<f64>; 3], spacing: f64, f: &mut impl FnMut(Piece)) {
     let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -140,7 +147,7 @@ fn split(p: [Point3<f64>; 3], w: [[f64; 3]; 3], spacing: f64, f: &mut impl FnMut
     let longest = (0..3)
         .max_by(|&i, &j| edges[i].total_cmp(&edges[j]))
         .unwrap_or(0);
-    if edges[longest] > spacing {
+    if edges[longest] > spacing * (1.0 + EDGE_SLACK) {
         // Rotate so the longest edge is the first, then cut it at its middle.
         let (i, j, k) = (longest, (longest + 1) % 3, (longest + 2) % 3);
         let m = Point3::from((p[i].coords + p[j].coords) * 0.5);

@@ -343,21 +343,6 @@ impl Scenario {
             let ranks = self.participants.fluid.as_ref().map_or(1, |f| f.ranks());
             if ranks > 1 {
                 check_ranks(c, s, ranks);
-                let shaped = self
-                    .rigid
-                    .as_ref()
-                    .is_some_and(|r| r.bodies.iter().any(|b| b.shape.is_some()));
-                if s.model == fluid::FluidModel::Incompressible
-                    && (self.participants.structure.is_some() || shaped)
-                {
-                    c.problem(
-                        &["participants", "fluid", "ranks"],
-                        format!(
-                            "ranks = {ranks}: a canopy or a body with a shape is in the \
-                             incompressible flow on one rank only so far: leave ranks out"
-                        ),
-                    );
-                }
             }
             let courant = s.start_courant(k.window).unwrap_or(0.0);
             if courant > flow::MAX_COURANT {

@@ -259,20 +259,6 @@ pub const CASES: &[Case] = &[
         line_of: Some("ranks = 0"),
     },
     Case {
-        name: "ranks-canopy-in-flow",
-        edit: |_| {
-            shipped_with(
-                "sheet-updraft",
-                "program = \"fluid-proc\"",
-                "program = \"fluid-proc\"\nranks = 2",
-            )
-        },
-        key: Some("participants.fluid.ranks"),
-        says:
-            "a canopy or a body with a shape is in the incompressible flow on one rank only so far",
-        line_of: Some("ranks = 2"),
-    },
-    Case {
         name: "ranks-incompressible-thinner-than-halo",
         edit: |_| {
             cavity_with(
