@@ -450,7 +450,8 @@ pub fn force(
     };
     apply(&pushes, u, bodies);
     for _ in 0..FORCING_PASSES {
-        // Across a porous sheet the drag did the work.
+        // Across a porous sheet the drag did the work: only the others
+        // are forced again.
         let air = air_at(u, &m, &reach, |b| bodies[b].porous.is_none(), part);
         for (b, body) in bodies.iter().enumerate() {
             pushes[b].clear();
