@@ -106,6 +106,32 @@ impl Slab {
         c[self.axis] += self.lo;
         c
     }
+
+    /// The ranks of `comm` beyond the slab's low and high sides, wrapping
+    /// round a `periodic` axis; None where a side of the box is there, and
+    /// on one rank.
+    pub fn neighbours(&self, comm: &dyn Comm, periodic: bool) -> [Option<usize>; 2] {
+        let (r, ranks) = (comm.rank(), comm.ranks());
+        let inside = [self.lo > 0, self.hi < self.n[self.axis]];
+        let step = [ranks - 1, 1];
+        [0, 1].map(|s| (ranks > 1 && (inside[s] || periodic)).then(|| (r + step[s]) % ranks))
+    }
+}
+
+/// Swaps planes with the `neighbours` below and above (`Slab::neighbours`):
+/// sends `down` to the rank below while receiving `from_up` from the rank
+/// above, then `up` to the rank above while receiving `from_down` (each
+/// only where that neighbour exists).
+pub fn swap(
+    comm: &dyn Comm,
+    [below, above]: [Option<usize>; 2],
+    down: &[f64],
+    from_up: &mut [f64],
+    up: &[f64],
+    from_down: &mut [f64],
+) {
+    comm.shift(below.map(|r| (r, down)), above.map(|r| (r, from_up)), 0);
+    comm.shift(above.map(|r| (r, up)), below.map(|r| (r, from_down)), 1);
 }
 
 #[cfg(test)]

@@ -19,7 +19,7 @@
 //! reads, so the fields do not depend on the number of ranks.
 
 use crate::characteristic::{line_fluxes, REACH};
-use crate::comm::{Comm, Single, Slab};
+use crate::comm::{swap, Comm, Single, Slab};
 use crate::gas::{Gas, Primitive, State};
 use crate::padded::{Layout, GHOSTS};
 use rayon::prelude::*;
@@ -339,7 +339,7 @@ impl Compressible {
             let u = &mut self.u;
             lay.for_each_line(a, |base| {
                 let ix = |k: isize| (base as isize + k * s) as usize;
-                if shared == [true; 2] {
+                if shared.iter().all(Option::is_some) {
                     return;
                 }
                 if sides == [GasSide::Periodic; 2] {
@@ -350,7 +350,7 @@ impl Compressible {
                     return;
                 }
                 for (side, up) in [(sides[0], false), (sides[1], true)] {
-                    if shared[up as usize] {
+                    if shared[up as usize].is_some() {
                         continue;
                     }
                     let (edge, dir) = if up { (m - 1, 1) } else { (0, -1) };
@@ -370,54 +370,45 @@ impl Compressible {
                     }
                 }
             });
-            if shared != [false; 2] {
+            if shared.iter().any(Option::is_some) {
                 self.exchange_halo(a, shared);
             }
         }
     }
 
-    /// Whether this rank's low and high sides along `a` face another rank.
-    fn shared_sides(&self, a: usize) -> [bool; 2] {
-        let ranks = self.comm.ranks();
-        if ranks == 1 || a != self.slab.axis {
-            return [false; 2];
+    /// The ranks this rank's low and high sides along `a` face, if any.
+    fn shared_sides(&self, a: usize) -> [Option<usize>; 2] {
+        if a != self.slab.axis {
+            return [None; 2];
         }
         let periodic = self.setup.sides[a] == [GasSide::Periodic; 2];
-        [
-            periodic || self.slab.lo > 0,
-            periodic || self.slab.hi < self.setup.n[a],
-        ]
+        self.slab.neighbours(self.comm.as_ref(), periodic)
     }
 
     /// The ghost layers along `a` from the neighbouring ranks: this rank's
     /// last GHOSTS planes go up as the next rank's low ghosts, its first
     /// ones down as the previous rank's high ghosts (wrapping round on a
     /// periodic axis). Planes span the whole padded range of the other axes.
-    fn exchange_halo(&mut self, a: usize, shared: [bool; 2]) {
-        let (rank, ranks) = (self.comm.rank(), self.comm.ranks());
-        let below = (rank + ranks - 1) % ranks;
-        let above = (rank + 1) % ranks;
+    fn exchange_halo(&mut self, a: usize, shared: [Option<usize>; 2]) {
         let m = self.lay.m[a] as isize;
         let g = GHOSTS as isize;
         let planes = |k0: isize| self.planes(a, k0..k0 + g);
         let (top, bottom) = (planes(m - g), planes(0));
         let mut from_below = vec![0.0; top.len()];
         let mut from_above = vec![0.0; bottom.len()];
-        let (down, up) = (shared[0], shared[1]);
-        self.comm.shift(
-            up.then_some((above, &top[..])),
-            down.then_some((below, &mut from_below[..])),
-            0,
+        let comm = self.comm.as_ref();
+        swap(
+            comm,
+            shared,
+            &bottom,
+            &mut from_above,
+            &top,
+            &mut from_below,
         );
-        self.comm.shift(
-            down.then_some((below, &bottom[..])),
-            up.then_some((above, &mut from_above[..])),
-            1,
-        );
-        if down {
+        if shared[0].is_some() {
             self.set_planes(a, -g..0, &from_below);
         }
-        if up {
+        if shared[1].is_some() {
             self.set_planes(a, m..m + g, &from_above);
         }
     }

@@ -60,15 +60,12 @@ impl Part {
     /// The rank beyond the slab's low (`up = false`) or high side, wrapping
     /// round a periodic axis; None where a side of the box is there.
     pub fn neighbour(&self, up: bool) -> Option<usize> {
-        let (r, ranks) = (self.comm.rank(), self.comm.ranks());
-        let a = self.slab.axis;
-        let inside = if up {
-            self.slab.hi < self.slab.n[a]
-        } else {
-            self.slab.lo > 0
-        };
-        let wraps = self.sides[a][0] == Side::Periodic;
-        (ranks > 1 && (inside || wraps)).then(|| (r + if up { 1 } else { ranks - 1 }) % ranks)
+        self.neighbours()[up as usize]
+    }
+
+    fn neighbours(&self) -> [Option<usize>; 2] {
+        let periodic = self.sides[self.slab.axis][0] == Side::Periodic;
+        self.slab.neighbours(self.comm.as_ref(), periodic)
     }
 
     /// The slab's own sides: the box's, but [`Side::Rank`] toward a neighbour.
@@ -133,11 +130,8 @@ impl Part {
     /// rank above, then `up` to the rank above while receiving `from_down`
     /// (each only where that neighbour exists).
     pub fn swap(&self, down: &[f64], from_up: &mut [f64], up: &[f64], from_down: &mut [f64]) {
-        let (below, above) = (self.neighbour(false), self.neighbour(true));
-        self.comm
-            .shift(below.map(|r| (r, down)), above.map(|r| (r, from_up)), 0);
-        self.comm
-            .shift(above.map(|r| (r, up)), below.map(|r| (r, from_down)), 1);
+        let comm = self.comm.as_ref();
+        crate::comm::swap(comm, self.neighbours(), down, from_up, up, from_down);
     }
 
     /// Fills `halo` with the neighbours' planes next to this slab of the
