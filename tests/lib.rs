@@ -1,7 +1,7 @@
 //! Helpers for canopy's integration tests: build the executables, run the
 //! coupler, read what a run left behind.
 
-use coupler::Scenario;
+use scenario::Scenario;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 use std::sync::Once;

@@ -41,25 +41,58 @@ enum Cmd {
     /// The other end of `bench exchange` (started by it).
     #[command(hide = true)]
     BenchPeer {
-        #[arg(long)]
-        run_id: String,
-        /// Copy every value back (for bit-exactness checks).
-        #[arg(long)]
-        echo: bool,
+        #[command(subcommand)]
+        peer: PeerCmd,
     },
 }
 
 #[derive(Subcommand)]
 enum BenchCmd {
-    /// Field round trip of 10³…10⁶ values (median, p99) and the exchange share of a scene.
+    /// Field round trip of 10³…10⁶ values (median, p99) four ways, and the
+    /// exchange share of coupled scenes.
     Exchange {
         #[arg(long, default_value_t = 2000)]
         rounds: usize,
-        /// Scene whose exchange share of wall time is measured.
-        #[arg(long, default_value = "scenarios/canopy-porous.toml")]
-        scene: PathBuf,
+        /// Scenes whose exchange share of wall time is measured (repeat the
+        /// flag for several; default: canopy-porous, pendulum, c9-drop-body).
+        #[arg(long = "scene")]
+        scenes: Vec<PathBuf>,
+        /// Only the round trips, no scene.
+        #[arg(long)]
+        no_scenes: bool,
     },
 }
+
+#[derive(Subcommand)]
+enum PeerCmd {
+    /// A participant of the bench's two-participant run.
+    Library {
+        #[arg(long)]
+        rounds: usize,
+    },
+    /// iceoryx2 with a copy at each end.
+    Copy {
+        #[arg(long)]
+        run_id: String,
+        #[arg(long)]
+        rounds: usize,
+    },
+    /// A Unix socket with bincode.
+    Socket {
+        #[arg(long)]
+        path: PathBuf,
+        #[arg(long)]
+        rounds: usize,
+    },
+}
+
+/// The scenes `bench exchange` measures by default: fluid and structure,
+/// impulse sub-steps, and three processes.
+const BENCH_SCENES: [&str; 3] = [
+    "scenarios/canopy-porous.toml",
+    "scenarios/pendulum.toml",
+    "scenarios/c9-drop-body.toml",
+];
 
 fn main() {
     let cli = match Cli::try_parse() {
@@ -78,10 +111,24 @@ fn main() {
         Cmd::Run { scenario, out } => launcher::run::run(&scenario, out),
         Cmd::Check { scenario } => launcher::check(&scenario),
         Cmd::Bench {
-            what: BenchCmd::Exchange { rounds, scene },
-        } => launcher::bench::exchange(rounds.max(10), Some(&scene)),
+            what:
+                BenchCmd::Exchange {
+                    rounds,
+                    mut scenes,
+                    no_scenes,
+                },
+        } => {
+            if scenes.is_empty() && !no_scenes {
+                scenes = BENCH_SCENES.iter().map(PathBuf::from).collect();
+            }
+            launcher::bench::exchange(rounds.max(10), &scenes)
+        }
         Cmd::Study { args } => launcher::study::study(&args),
-        Cmd::BenchPeer { run_id, echo } => launcher::bench::peer(&run_id, echo),
+        Cmd::BenchPeer { peer } => match peer {
+            PeerCmd::Library { rounds } => launcher::bench::library_peer(rounds),
+            PeerCmd::Copy { run_id, rounds } => launcher::bench::copy_peer(&run_id, rounds),
+            PeerCmd::Socket { path, rounds } => launcher::bench::socket_peer(&path, rounds),
+        },
     };
     std::process::exit(code);
 }

@@ -83,8 +83,8 @@ fn ranks_row(n: usize, warm: usize, timed: usize) -> Option<[f64; 3]> {
     }
     let exe = std::env::current_exe().ok()?;
     let out = std::process::Command::new("mpirun")
-        .args(coupler::mpirun::args(2, &exe, &[]))
-        .envs(coupler::mpirun::env(2))
+        .args(participant::mpirun::args(2, &exe, &[]))
+        .envs(participant::mpirun::env(2))
         .env(RANKS_ROW, format!("{n} {warm} {timed}"))
         .env("RAYON_NUM_THREADS", "1")
         .output()
@@ -146,7 +146,7 @@ fn steps_table() {
 
 fn cavity_table() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/cavity.toml");
-    let scenario = coupler::Scenario::load(std::path::Path::new(path)).expect("shipped scenario");
+    let scenario = scenario::Scenario::load(std::path::Path::new(path)).expect("shipped scenario");
     let section = scenario.fluid.as_ref().expect("[fluid]");
     println!(
         "\nscenarios/cavity.toml (Re = 100, 128², Δt = {} s), from rest:\n",

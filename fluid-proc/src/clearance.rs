@@ -1,7 +1,7 @@
 //! What an immersed surface must keep from the flow box's sides.
 
-use fluid_proc::grid::{Bc, Grid};
-use fluid_proc::surface::Marker;
+use crate::grid::{Bc, Grid};
+use crate::surface::Marker;
 
 /// Cells markers must keep from a side that is not periodic: the δ kernel
 /// reaches two cells, and the side's face is given, not forced.

@@ -3,14 +3,14 @@
 //! the fluid's load on each sent back (`immersed.rs` does the physics).
 
 use crate::clearance::keep_clear;
-use coupler::scenario::Scenario;
-use coupler::Monitor;
-use fluid_proc::immersed::{place_markers, ImmersedBody, RETRACTION};
-use fluid_proc::incompressible::Incompressible;
-use fluid_proc::pressure_force::pressure_load;
-use fluid_proc::surface::Surface;
+use crate::immersed::{place_markers, ImmersedBody, RETRACTION};
+use crate::incompressible::Incompressible;
+use crate::pressure_force::pressure_load;
+use crate::surface::Surface;
+use participant::Monitor;
 use rigid_proc::body::STATE_LEN;
 use rigid_proc::Body;
+use scenario::Scenario;
 
 pub struct FlowBodies {
     bodies: Vec<Body>,

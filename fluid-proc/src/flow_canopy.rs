@@ -3,14 +3,14 @@
 //! them, and the pressure jump on each sent back (`canopy.rs`,
 //! `immersed.rs` and `coating.rs` do the physics).
 
+use crate::canopy::{porous_law, sheet_markers};
 use crate::clearance::keep_clear;
-use coupler::scenario::FluidSection;
-use fluid_proc::canopy::{porous_law, sheet_markers};
-use fluid_proc::coating::Coating;
-use fluid_proc::grid::Grid;
-use fluid_proc::immersed::ImmersedBody;
-use fluid_proc::incompressible::Incompressible;
-use fluid_proc::{check_triangles, triangles_from_field, Porous};
+use crate::coating::Coating;
+use crate::grid::Grid;
+use crate::immersed::ImmersedBody;
+use crate::incompressible::Incompressible;
+use crate::{check_triangles, triangles_from_field, Porous};
+use scenario::FluidSection;
 
 /// How far a canopy's extent along a 2-D flow's thin axis may differ from
 /// the box's depth, relative: the fabric stretches a little across it.
@@ -33,7 +33,9 @@ impl FlowCanopy {
     pub fn new(section: &FluidSection, origin: [f64; 3]) -> FlowCanopy {
         FlowCanopy {
             triangles: None,
-            law: section.fabric().map(|f| porous_law(&Porous::new(&f))),
+            law: section
+                .fabric()
+                .map(|f| porous_law(&Porous::new(&f.params()))),
             origin,
             x: Vec::new(),
             jumps: Vec::new(),

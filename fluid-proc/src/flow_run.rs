@@ -11,17 +11,18 @@
 //! pressure jump and the bodies' pressure force it reads from the pressure
 //! it gathers.
 
+use crate::comm::Comm;
+use crate::driver::fields::*;
+use crate::driver::{declaration, Error};
 use crate::flow_bodies::FlowBodies;
 use crate::flow_canopy::FlowCanopy;
+use crate::incompressible::{Incompressible, StepReport};
+use crate::mac::Faces;
 use crate::ranks::{Order, Stopped};
-use crate::Error;
-use coupler::scenario::FluidSection;
-use coupler::vtu::{Image, Series};
-use coupler::{Command, Field, Monitor, Participant};
-use fluid_proc::comm::Comm;
-use fluid_proc::incompressible::{Incompressible, StepReport};
-use fluid_proc::mac::Faces;
-use fluid_proc::setup::flow_on;
+use crate::setup::flow_on;
+use participant::vtu::{Image, Series};
+use participant::{Command, Joining, Monitor, Participant};
+use scenario::{FluidSection, Scenario};
 use std::sync::Arc;
 
 /// One rank's flow, and its faces at the start of the window.
@@ -85,27 +86,48 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
     })
 }
 
+/// The flow's own monitors, in the order [`monitors`] reports them.
+const FLOW_MONITORS: [&str; 9] = [
+    "kinetic_energy",
+    "momentum_x",
+    "momentum_y",
+    "momentum_z",
+    "max_divergence",
+    "steady_residual",
+    "courant",
+    "pressure_iterations",
+    "viscous_iterations",
+];
+
+/// Sums and maxima over every rank: every rank calls it together.
 fn monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> Vec<Monitor> {
     let momentum = flow.momentum();
-    vec![
-        Monitor::new("kinetic_energy", flow.kinetic_energy()),
-        Monitor::new("momentum_x", momentum[0]),
-        Monitor::new("momentum_y", momentum[1]),
-        Monitor::new("momentum_z", momentum[2]),
-        Monitor::new("max_divergence", flow.max_divergence()),
-        Monitor::new("steady_residual", steady_residual),
-        Monitor::new("courant", r.courant),
-        Monitor::new("pressure_iterations", r.pressure_iterations as f64),
-        Monitor::new("viscous_iterations", r.viscous_iterations as f64),
-    ]
+    let values = [
+        flow.kinetic_energy(),
+        momentum[0],
+        momentum[1],
+        momentum[2],
+        flow.max_divergence(),
+        steady_residual,
+        r.courant,
+        r.pressure_iterations as f64,
+        r.viscous_iterations as f64,
+    ];
+    FLOW_MONITORS
+        .iter()
+        .zip(values)
+        .map(|(name, v)| Monitor::new(*name, v))
+        .collect()
 }
 
-/// Rank 0 (or the only rank).
+/// Rank 0 (or the only rank): declares what the flow exchanges, runs the
+/// schedule and finishes.
 pub fn lead(
-    p: &mut Participant,
+    joining: Joining,
+    scenario: &Scenario,
     section: &FluidSection,
     comm: Arc<dyn Comm>,
-) -> Result<u64, Stopped> {
+) -> Result<(), Stopped> {
     let c = comm.as_ref();
     let flow = flow_on(section, comm.clone())
         .ok_or_else(|| Stopped::before_order(c, "[fluid] has no box"))?;
@@ -114,10 +136,37 @@ pub fn lead(
         flow,
     };
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
-    let mut bodies = FlowBodies::new(p.scenario(), &mut f.flow, origin)
+    let bodies =
+        FlowBodies::new(scenario, &mut f.flow, origin).map_err(|e| Stopped::before_order(c, e))?;
+    let mut names: Vec<String> = FLOW_MONITORS.iter().map(|n| n.to_string()).collect();
+    names.extend(bodies.monitors(&f.flow, None).into_iter().map(|m| m.name));
+    // The canopy's jump is monitored when a structure takes part, which
+    // writes the canopy.
+    let jump_monitor = scenario.participants.structure.is_some();
+    if jump_monitor {
+        names.push("mean_pressure_jump".into());
+    }
+    let mut p = joining
+        .declare(declaration(f.flow.bodies.len(), true, names))
         .map_err(|e| Stopped::before_order(c, e))?;
+    let steps = run(&mut p, &mut f, section, bodies, jump_monitor, comm)?;
+    p.finish(steps)?;
+    Ok(())
+}
+
+/// The schedule's commands, turned into orders every rank obeys.
+fn run(
+    p: &mut Participant,
+    f: &mut Flow,
+    section: &FluidSection,
+    mut bodies: FlowBodies,
+    jump_monitor: bool,
+    comm: Arc<dyn Comm>,
+) -> Result<u64, Stopped> {
+    let c = comm.as_ref();
+    let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
     let mut canopy = FlowCanopy::new(section, origin);
-    let with_canopy = p.is_connected(Field::CanopyPositions);
+    let with_canopy = p.is_connected(CANOPY_POSITIONS);
     let mut loads = vec![0.0; 6 * f.flow.bodies.len()];
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
@@ -142,11 +191,8 @@ pub fn lead(
                 }
             }
             Command::Stop => Order::Stop,
-            Command::Setup(_) => {
-                return Err(Stopped::before_order(c, "unexpected second setup"));
-            }
         };
-        let done = obey(&mut f, order.share(c)).map_err(|msg| Stopped {
+        let done = obey(f, order.share(c)).map_err(|msg| Stopped {
             error: fail(p, msg),
             together: true,
         })?;
@@ -155,7 +201,7 @@ pub fn lead(
             (_, Done::Stop) => break,
             (_, Done::Monitors(mut m)) => {
                 m.extend(bodies.monitors(flow, None));
-                if with_canopy {
+                if jump_monitor {
                     m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
                 }
                 p.done(m)?
@@ -173,24 +219,22 @@ pub fn lead(
             }
             (Command::Advance(a), Done::Advanced(mut m, n, pressure)) => {
                 steps += n;
-                if p.is_connected(Field::BodyLoads) {
+                if p.is_connected(BODY_LOADS) {
                     // rigid-proc reads a load every window, bodies or none.
                     bodies.take_loads(flow, &mut loads);
-                    p.write_field(Field::BodyLoads, loads.len(), |out| {
-                        out.copy_from_slice(&loads)
-                    })?;
+                    p.write_field(BODY_LOADS, loads.len(), |out| out.copy_from_slice(&loads))?;
                 }
-                if p.is_connected(Field::CanopyPressure) {
+                if p.is_connected(CANOPY_PRESSURE) {
                     let pressure = pressure.as_deref().ok_or("the canopy is not in the flow")?;
                     let jumps = canopy.jumps(flow.grid(), pressure);
-                    p.write_field(Field::CanopyPressure, jumps.len(), |out| {
+                    p.write_field(CANOPY_PRESSURE, jumps.len(), |out| {
                         out.copy_from_slice(jumps)
                     })?;
                 }
                 if a.window_end {
                     let read = pressure.as_deref().map(|p| (&loads[..], p));
                     m.extend(bodies.monitors(flow, read));
-                    if with_canopy {
+                    if jump_monitor {
                         m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
                     }
                 }
@@ -211,15 +255,15 @@ fn place(
     with_canopy: bool,
     flow: &mut Incompressible,
 ) -> Result<(), Error> {
-    if p.is_connected(Field::BodyStates) {
-        bodies.read(&p.read_field(Field::BodyStates)?, flow)?;
+    if p.is_connected(BODY_STATES) {
+        bodies.read(&p.read_field(BODY_STATES)?, flow)?;
     }
     if with_canopy {
         if canopy.needs_triangles() {
-            canopy.set_triangles(&p.read_field(Field::CanopyTriangles)?);
+            canopy.set_triangles(&p.read_field(CANOPY_TRIANGLES)?);
         }
-        let x = p.read_field(Field::CanopyPositions)?;
-        let v = p.read_field(Field::CanopyVelocities)?;
+        let x = p.read_field(CANOPY_POSITIONS)?;
+        let v = p.read_field(CANOPY_VELOCITIES)?;
         canopy.place(&x, &v, flow)?;
     }
     Ok(())

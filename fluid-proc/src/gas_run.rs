@@ -4,15 +4,15 @@
 //! global Δt), the monitors (sums and minima over the box) and the output
 //! (gathered to rank 0, which writes it).
 
+use crate::comm::Comm;
+use crate::compressible::{AdvanceReport, Compressible, GasError};
+use crate::driver::{declaration, Error};
+use crate::gas::Primitive;
 use crate::ranks::{Order, Stopped};
-use crate::Error;
-use coupler::scenario::FluidSection;
-use coupler::vtu::{Image, Series};
-use coupler::{Command, Monitor, Participant};
-use fluid_proc::comm::Comm;
-use fluid_proc::compressible::{AdvanceReport, Compressible, GasError};
-use fluid_proc::gas::Primitive;
-use fluid_proc::setup::gas_on;
+use crate::setup::gas_on;
+use participant::vtu::{Image, Series};
+use participant::{Command, Joining, Monitor, Participant};
+use scenario::FluidSection;
 use std::sync::Arc;
 
 /// What obeying an order gave; only rank 0's is used.
@@ -42,29 +42,47 @@ fn obey(gas: &mut Compressible, order: Order) -> Result<Done, GasError> {
     })
 }
 
+/// The gas's monitors, in the order [`monitors`] reports them.
+const GAS_MONITORS: [&str; 5] = ["mass", "energy", "min_density", "min_pressure", "steps"];
+
 /// Mass and energy (conserved but for what crosses the sides), the lowest
 /// density and pressure (what fails first), and the steps of the last call.
+/// Sums and minima over every rank: every rank calls it together.
 fn monitors(gas: &Compressible, r: AdvanceReport) -> Vec<Monitor> {
     let totals = gas.totals();
     let [density, pressure] = gas.lowest();
-    vec![
-        Monitor::new("mass", totals[0]),
-        Monitor::new("energy", totals[4]),
-        Monitor::new("min_density", density),
-        Monitor::new("min_pressure", pressure),
-        Monitor::new("steps", r.steps as f64),
-    ]
+    let values = [totals[0], totals[4], density, pressure, r.steps as f64];
+    GAS_MONITORS
+        .iter()
+        .zip(values)
+        .map(|(name, v)| Monitor::new(*name, v))
+        .collect()
 }
 
 /// Rank 0 (or the only rank): as many stable steps per window as the
-/// fastest wave allows (`cfl`), the gas written as `fluid.pvd`.
-pub fn lead(
+/// fastest wave allows (`cfl`), the gas written as `fluid.pvd`. The gas
+/// exchanges no field yet.
+pub fn lead(joining: Joining, section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Stopped> {
+    let c = comm.as_ref();
+    let gas = gas_on(section, comm.clone()).ok_or_else(|| {
+        Stopped::before_order(c, "[fluid] lacks the box or the regions of the euler model")
+    })?;
+    let names = GAS_MONITORS.iter().map(|n| n.to_string()).collect();
+    let mut p = joining
+        .declare(declaration(0, false, names))
+        .map_err(|e| Stopped::before_order(c, e))?;
+    let steps = run(&mut p, gas, section, comm)?;
+    p.finish(steps)?;
+    Ok(())
+}
+
+/// The schedule's commands, turned into orders every rank obeys.
+fn run(
     p: &mut Participant,
+    mut gas: Compressible,
     section: &FluidSection,
     comm: Arc<dyn Comm>,
 ) -> Result<u64, Stopped> {
-    let mut gas = gas_on(section, comm.clone())
-        .ok_or("[fluid] lacks the box or the regions of the euler model")?;
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
@@ -94,7 +112,6 @@ pub fn lead(
                     together: true,
                 });
             }
-            (Command::Setup(_), _) => return Err("unexpected second setup".into()),
             (_, Ok(Done::Stop)) => break,
             (_, Ok(Done::Monitors(m))) => p.done(m)?,
             (Command::Output { index, time }, Ok(Done::Output(cells))) => {

@@ -28,7 +28,7 @@ use crate::part::{Halo, Part};
 use crate::poisson::{Poisson, SolveError};
 use crate::side::{bcs, Sides};
 use crate::viscosity::{laplacian, Helmholtz, ViscousError};
-use coupler::scenario::flow::MAX_COURANT;
+use scenario::flow::MAX_COURANT;
 
 /// Relative residual of the pressure solve.
 pub const PRESSURE_TOLERANCE: f64 = 1e-8;

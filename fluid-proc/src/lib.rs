@@ -30,16 +30,27 @@
 //!   `mpi` feature, `mpi_comm.rs`), and the incompressible flow's slab of
 //!   it on each (`part.rs`).
 //!
-//! The physics never touches IPC.
+//! The physics never touches IPC. The driver (`driver.rs`) joins the run
+//! through the participant library and runs a model's loop: the porous
+//! one there, the incompressible flow's in `flow_run.rs` (the bodies and
+//! the canopy it places each window: `flow_bodies.rs`, `flow_canopy.rs`,
+//! `clearance.rs`), the gas's in `gas_run.rs`, and the orders rank 0
+//! shares with the other ranks in `ranks.rs`.
 
 pub mod advection;
 pub mod canopy;
 pub mod characteristic;
+pub mod clearance;
 pub mod coating;
 pub mod comm;
 pub mod compressible;
 pub mod delta;
+pub mod driver;
+pub mod flow_bodies;
+pub mod flow_canopy;
+pub mod flow_run;
 pub mod gas;
+pub mod gas_run;
 pub mod grid;
 pub mod immersed;
 pub mod incompressible;
@@ -53,6 +64,7 @@ pub mod part;
 pub mod poisson;
 pub mod pressure_force;
 pub mod profile;
+pub mod ranks;
 pub mod riemann;
 pub mod setup;
 pub mod side;

@@ -4,8 +4,8 @@
 //! euler model, `flow_run.rs` for the incompressible one). One rank is the
 //! same code with a `Single` communicator.
 
-use crate::Error;
-use fluid_proc::comm::Comm;
+use crate::comm::Comm;
+use crate::driver::Error;
 
 /// What every rank does next.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -97,10 +97,10 @@ impl Stopped {
 /// fluid-proc started under `mpirun` (`[participants.fluid] ranks = N`).
 #[cfg(feature = "mpi")]
 pub fn ranks() -> Result<(), Error> {
+    use crate::mpi_comm::MpiComm;
     use crate::{flow_run, gas_run};
-    use coupler::scenario::fluid::FluidModel;
-    use coupler::Scenario;
-    use fluid_proc::mpi_comm::MpiComm;
+    use scenario::fluid::FluidModel;
+    use scenario::Scenario;
     use std::sync::Arc;
     let universe = mpi::initialize().ok_or("MPI was initialised twice")?;
     let mpi = Arc::new(MpiComm::new(&universe));
@@ -108,19 +108,19 @@ pub fn ranks() -> Result<(), Error> {
     let mut text = String::new();
     let result = if comm.rank() == 0 {
         (|| -> Result<(), Stopped> {
-            let (mut p, section) = crate::connect()?;
-            text = p.scenario().to_toml();
+            let (joining, scenario, section) = crate::driver::connect()?;
+            text = joining.scenario().to_string();
             comm.broadcast_text(&mut text);
-            let steps = match section.model {
-                FluidModel::Euler => gas_run::lead(&mut p, &section, comm.clone())?,
-                FluidModel::Incompressible => flow_run::lead(&mut p, &section, comm.clone())?,
+            match section.model {
+                FluidModel::Euler => gas_run::lead(joining, &section, comm.clone()),
+                FluidModel::Incompressible => {
+                    flow_run::lead(joining, &scenario, &section, comm.clone())
+                }
                 other => {
                     let msg = format!("model = \"{}\" runs on one rank only", other.name());
-                    return Err(msg.into());
+                    Err(msg.into())
                 }
-            };
-            p.finish(steps)?;
-            Ok(())
+            }
         })()
     } else {
         comm.broadcast_text(&mut text);

@@ -173,7 +173,7 @@ fn split(p: [Point3<f64>; 3], w: [[f64; 3]; 3], spacing: f64, f: &mut impl FnMut
 #[cfg(test)]
 mod tests {
     use super::*;
-    use coupler::scenario::rigid::ShapeSpec;
+    use scenario::rigid::ShapeSpec;
 
     fn shape(spec: ShapeSpec) -> Shape {
         Shape::from_spec(&spec).unwrap()

@@ -4,9 +4,9 @@
 //! tabulated points; and its extrema against the converged values of
 //! Botella & Peyret (1998).
 
-use coupler::scenario::flow::SideSpec;
 use fluid_proc::profile::{extremum, face_line, value_at, CAVITY_RE100_EXTREMA as CONVERGED};
 use fluid_proc::setup::flow_from;
+use scenario::flow::SideSpec;
 
 /// Ghia et al. Table I, Re = 100: (y, u) on x = 0.5.
 const GHIA_U: [(f64, f64); 17] = [
@@ -55,7 +55,7 @@ fn the_cavity_at_re_100_matches_ghia_and_the_converged_extrema() {
     // The shipped scene, run to its end (t = 15 s, steady to a few 1e-5
     // m/s²) by the library without the coupler.
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/cavity.toml");
-    let scenario = coupler::Scenario::load(std::path::Path::new(path)).expect("shipped scenario");
+    let scenario = scenario::Scenario::load(std::path::Path::new(path)).expect("shipped scenario");
     let section = scenario.fluid.as_ref().expect("[fluid]");
     let lid = match section.resolved_sides().unwrap()[1][1] {
         SideSpec::Velocity(v) => v[0],

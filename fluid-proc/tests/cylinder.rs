@@ -12,7 +12,6 @@
 //! (John, Int. J. Numer. Meth. Fluids 44, 777–788, 2004, refined them to
 //! c_D = 5.5795, c_L = 0.010619, Δp = 0.11752.)
 
-use coupler::scenario::rigid::ShapeSpec;
 use fluid_proc::grid::Grid;
 use fluid_proc::immersed::{place_markers, ImmersedBody, RETRACTION};
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
@@ -21,6 +20,7 @@ use fluid_proc::side::{bcs, parabola, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::Isometry3;
 use rigid_proc::shape::Shape;
+use scenario::rigid::ShapeSpec;
 
 const LENGTH: f64 = 2.2;
 const HEIGHT: f64 = 0.41;

@@ -8,7 +8,6 @@
 //! uniform on either side. The jump read through the index coating
 //! (seed 000 §3.3.2) must give it.
 
-use coupler::scenario::PorousLoad;
 use fluid_proc::canopy::{porous_law, sheet_markers};
 use fluid_proc::coating::Coating;
 use fluid_proc::grid::Grid;
@@ -82,7 +81,7 @@ fn screen(law: Option<[f64; 2]>, sheet: f64, along: f64, steps: usize) -> Screen
 /// Darcy–Forchheimer coefficients for ε = 0.5, grain 2 mm, fabric 0.1 mm
 /// thick in air (ρ = 1.2 kg/m³, μ = 1.8·10⁻⁵ Pa·s): about 0.5 Pa at 1 m/s.
 fn fabric() -> Porous {
-    Porous::new(&PorousLoad {
+    Porous::new(&porous::Params {
         free_stream: [0.0; 3],
         density: 1.2,
         viscosity: 1.8e-5,

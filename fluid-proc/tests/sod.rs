@@ -111,8 +111,8 @@ fn a_closed_tube_keeps_its_mass_and_energy_through_the_reflections() {
     let mut scenario = shipped("sod");
     let fluid = scenario.fluid.as_mut().unwrap();
     let mut sides = fluid.sides.unwrap();
-    sides.x_low = Some(coupler::scenario::flow::SideSpec::Wall);
-    sides.x_high = Some(coupler::scenario::flow::SideSpec::Wall);
+    sides.x_low = Some(scenario::flow::SideSpec::Wall);
+    sides.x_high = Some(scenario::flow::SideSpec::Wall);
     fluid.sides = Some(sides);
     scenario.run.end_time = 1.0;
     let before = common::run_to(&scenario, 0.0).totals();

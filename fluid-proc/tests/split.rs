@@ -14,7 +14,6 @@
 //! marker (rank 0 shares them), the air's velocity at a marker whose
 //! kernel straddles two slabs being a sum over the ranks: round-off again.
 
-use coupler::scenario::rigid::ShapeSpec;
 use fluid_proc::canopy::sheet_markers;
 use fluid_proc::comm::Comm;
 use fluid_proc::grid::Grid;
@@ -25,6 +24,7 @@ use fluid_proc::side::{bcs, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::{Isometry3, Vector3};
 use rigid_proc::shape::Shape;
+use scenario::rigid::ShapeSpec;
 use std::collections::{HashMap, VecDeque};
 use std::f64::consts::PI;
 use std::sync::{Arc, Condvar, Mutex};

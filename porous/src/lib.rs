@@ -7,7 +7,22 @@
 //! model sends the jumps to the structure, and a structure solver with
 //! `[structure.porous]` evaluates them itself at every force evaluation.
 
-use coupler::scenario::PorousLoad;
+/// The law's parameters: the air's stream and properties, and the fabric's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Params {
+    /// Free-stream velocity of the air [m/s].
+    pub free_stream: [f64; 3],
+    /// Air density ρ [kg/m³].
+    pub density: f64,
+    /// Air dynamic viscosity μ [Pa·s].
+    pub viscosity: f64,
+    /// Fabric porosity ε (0 < ε < 1), seed 003 eqs. (7)–(9).
+    pub porosity: f64,
+    /// Characteristic (Ergun) diameter D [m], seed 003 eqs. (7)–(8).
+    pub diameter: f64,
+    /// Fabric thickness e [m], seed 003 eq. (6).
+    pub thickness: f64,
+}
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Porous {
@@ -22,7 +37,7 @@ pub struct Porous {
 }
 
 impl Porous {
-    pub fn new(s: &PorousLoad) -> Porous {
+    pub fn new(s: &Params) -> Porous {
         let (eps, d, mu, rho) = (s.porosity, s.diameter, s.viscosity, s.density);
         Porous {
             free_stream: s.free_stream,
@@ -119,8 +134,8 @@ pub fn area_normal2(x: &[f64], tri: &[usize; 3]) -> [f64; 3] {
 mod tests {
     use super::*;
 
-    fn section(v: f64) -> PorousLoad {
-        PorousLoad {
+    fn section(v: f64) -> Params {
+        Params {
             free_stream: [0.0, 0.0, v],
             density: 1.2,
             viscosity: 1.8e-5,

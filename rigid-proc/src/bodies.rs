@@ -5,9 +5,9 @@
 use crate::body::{Body, MOMENTUM_LEN, STATE_LEN};
 use crate::contact;
 use crate::motion::{advance, Load};
-use coupler::scenario::rigid::{pair_restitution, RigidSection};
-use coupler::scenario::structure::AttachmentSpec;
 use nalgebra::Vector3;
+use scenario::rigid::{pair_restitution, RigidSection};
+use scenario::structure::AttachmentSpec;
 
 #[derive(Clone)]
 pub struct Bodies {

@@ -2,10 +2,10 @@
 //! rigid body), held as a parry shape placed in the body's own frame.
 //! Geometry stays apart from dynamics: this file knows nothing of motion.
 
-use coupler::scenario::mesh::TriangleMesh;
-use coupler::scenario::rigid::ShapeSpec;
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::shape::{SharedShape, TriMeshFlags};
+use scenario::mesh::TriangleMesh;
+use scenario::rigid::ShapeSpec;
 use std::f64::consts::FRAC_PI_2;
 
 /// Segments around a sphere or cylinder when it is drawn.

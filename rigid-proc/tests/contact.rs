@@ -2,8 +2,8 @@
 //! rigid-body form): the impulse conserves linear and angular momentum, and
 //! with C_R = 1 the kinetic energy, rotation included.
 
-use coupler::scenario::rigid::RigidSection;
 use rigid_proc::Bodies;
+use scenario::rigid::RigidSection;
 
 const SCENE: &str = r#"
 gravity = [0.0, 0.0, 0.0]

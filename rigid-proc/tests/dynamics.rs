@@ -1,12 +1,12 @@
 //! Rigid-body dynamics against closed forms and conservation laws
 //! (seed 000 §2.1 eq. 2.12, §3.1.1 eqs. 3.1–3.6).
 
-use coupler::scenario::rigid::Motion;
 use nalgebra::{Matrix3, Vector3};
 use rigid_proc::euler_parameters as ep;
 use rigid_proc::mass::MassProperties;
 use rigid_proc::motion::{advance, Load};
 use rigid_proc::{Body, State};
+use scenario::rigid::Motion;
 
 /// A free body with principal moments `i` [kg·m²], mass 1 kg, at rest at the
 /// origin with orientation `e` and body angular velocity `w`.

@@ -1,12 +1,12 @@
 //! Mass properties from geometry (seed 000 eqs. 2.5–2.7) against the
 //! textbook formulas for a uniform solid.
 
-use coupler::scenario::mesh::TriangleMesh;
-use coupler::scenario::rigid::ShapeSpec;
 use nalgebra::Vector3;
 use parry3d_f64::shape::Ball;
 use rigid_proc::mass::MassProperties;
 use rigid_proc::shape::Shape;
+use scenario::mesh::TriangleMesh;
+use scenario::rigid::ShapeSpec;
 use std::f64::consts::PI;
 
 fn of(spec: ShapeSpec, density: f64) -> MassProperties {

@@ -9,10 +9,10 @@
 //!   backward-Euler step of the scene's window against the velocity-Verlet
 //!   sub-steps that cover the same window at the explicit stability limit.
 
-use coupler::scenario::structure::{Damping, Integrator as Scheme, StructureSection};
 use criterion::{
     black_box, criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput,
 };
+use scenario::structure::{Damping, Integrator as Scheme, StructureSection};
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator, Model};
 
@@ -22,7 +22,7 @@ fn cloth_section(n: u32) -> (StructureSection, f64) {
         env!("CARGO_MANIFEST_DIR"),
         "/../scenarios/cloth-hanging.toml"
     );
-    let s = coupler::Scenario::load(std::path::Path::new(path)).expect("shipped scenario");
+    let s = scenario::Scenario::load(std::path::Path::new(path)).expect("shipped scenario");
     let mut section = s.structure.expect("structure section");
     let cloth = section.cloth.as_mut().expect("cloth");
     cloth.nodes_x = n;
@@ -83,7 +83,7 @@ fn step(c: &mut Criterion) {
     g.finish();
 }
 
-fn scheme_of(i: Scheme) -> coupler::scenario::structure::Scheme {
+fn scheme_of(i: Scheme) -> scenario::structure::Scheme {
     let mut section = cloth_section(2).0;
     section.integrator = i;
     section.scheme()

@@ -8,10 +8,10 @@ use crate::lines::add_line;
 use crate::model::{Attachment, Model, NodeKind, Spring};
 use crate::parachute::circular_canopy;
 use crate::rectangle::{rectangle, Edge};
-use coupler::scenario::parachute::CanopyShape;
-use coupler::scenario::structure::{Cloth, ClothHold, ClothPlane, Parachute};
-use coupler::scenario::structure::{Damping, Elasticity};
-use coupler::scenario::{RigidSection, StructureSection};
+use scenario::parachute::CanopyShape;
+use scenario::structure::{Cloth, ClothHold, ClothPlane, Parachute};
+use scenario::structure::{Damping, Elasticity};
+use scenario::{RigidSection, StructureSection};
 use std::collections::BTreeSet;
 
 /// The model for `[structure]`, with structure step `dt` = Δt_s. The parachute's
@@ -29,7 +29,7 @@ pub fn build_model(
             Damping::Viscous => Some(Law::Axial),
         },
         gravity: s.gravity,
-        porous: s.porous.as_ref().map(porous::Porous::new),
+        porous: s.porous.as_ref().map(|l| porous::Porous::new(&l.params())),
         dt,
         ..Default::default()
     };

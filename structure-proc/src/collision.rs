@@ -18,12 +18,12 @@
 //! received goes back to the rigid solver, which applies it at the start of
 //! the same sub-step, so linear momentum is exchanged exactly.
 
-use coupler::scenario::structure::Collision;
-use coupler::scenario::RigidSection;
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query::{PointProjection, Ray};
 use parry3d_f64::shape::SharedShape;
 use rigid_proc::body::{Body, MOMENTUM_LEN, STATE_LEN};
+use scenario::structure::Collision;
+use scenario::RigidSection;
 
 /// The bodies the structure's free nodes collide with.
 pub struct Obstacles {

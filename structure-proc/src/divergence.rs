@@ -7,7 +7,7 @@
 //! the simulated time.
 
 use crate::Model;
-use coupler::Scenario;
+use scenario::Scenario;
 
 /// A node may move at most this many times the scene's speed scale.
 pub const SPEED_FACTOR: f64 = 100.0;

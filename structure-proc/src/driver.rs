@@ -1,19 +1,22 @@
-//! Drives a structure solver from the coupler's commands: the loop every
+//! Drives a structure solver through the run's schedule: the loop every
 //! structure executable shares (structure-proc with its integrators, xpbd-proc
 //! with its constraint solver). It reads the fluid's pressure and the rigid
 //! bodies' attachment points, asks the [`Stepper`] for the sub-steps, breaks
 //! lines, sends back impulses, canopy state and monitors, and writes output.
-//! The physics stays in the stepper; the IPC stays here and in `coupler`.
+//! The physics stays in the stepper; the IPC stays here and in the
+//! participant library.
 
 use crate::collision::Obstacles;
 use crate::divergence::Watch;
+use crate::fields::*;
 use crate::forces::Loads;
 use crate::integrators::{Integrator, StepError};
 use crate::output::Output;
 use crate::stability::{omega_max, OMEGA_MAX_FLAG, OMEGA_MAX_MONITOR};
 use crate::{build_model, Model, NodeKind};
-use coupler::scenario::structure::StructureSection;
-use coupler::{Command, Field, Monitor, Participant, Role, Scenario};
+use participant::{Cadence, Command, Declaration, Monitor, Participant};
+use scenario::structure::StructureSection;
+use scenario::Scenario;
 
 pub type Error = Box<dyn std::error::Error>;
 
@@ -165,29 +168,52 @@ fn monitors(m: &Model, omega_max: Option<f64>, obstacles: Option<&Obstacles>) ->
 fn publish_canopy(p: &mut Participant, m: &Model, with_triangles: bool) -> Result<(), Error> {
     let n = 3 * m.canopy_nodes;
     if with_triangles {
-        p.write_field(Field::CanopyTriangles, 3 * m.triangles.len(), |out| {
+        p.write_field(CANOPY_TRIANGLES, 3 * m.triangles.len(), |out| {
             for (o, &i) in out.iter_mut().zip(m.triangles.iter().flatten()) {
                 *o = i as f64;
             }
         })?;
     }
-    p.write_field(Field::CanopyPositions, n, |out| {
-        out.copy_from_slice(&m.x[..n])
-    })?;
-    p.write_field(Field::CanopyVelocities, n, |out| {
-        out.copy_from_slice(&m.v[..n])
-    })?;
+    p.write_field(CANOPY_POSITIONS, n, |out| out.copy_from_slice(&m.x[..n]))?;
+    p.write_field(CANOPY_VELOCITIES, n, |out| out.copy_from_slice(&m.v[..n]))?;
     Ok(())
 }
 
-/// Connect to the coupler as the structure participant, build the model of
-/// the scenario's `[structure]` section, and advance it with the stepper that
-/// `make` returns, until the coupler says stop.
+/// What the structure exchanges: the canopy for the fluid, the attachment
+/// and collision impulses for the rigid bodies, and its monitors. It steps
+/// per impulse sub-step, trading impulses with the rigid bodies.
+fn declaration(
+    m: &Model,
+    obstacles: Option<&Obstacles>,
+    monitors: &[Monitor],
+    n_s: u32,
+) -> Declaration {
+    let mut d = Declaration::new(Cadence::PerImpulse {
+        substeps_per_window: n_s,
+    })
+    .writes(CANOPY_TRIANGLES, 3, m.triangles.len())
+    .writes(CANOPY_POSITIONS, 3, m.canopy_nodes)
+    .writes(CANOPY_VELOCITIES, 3, m.canopy_nodes)
+    .writes(ATTACHMENT_IMPULSE, 3, m.attachments.len())
+    .reads_if_written(CANOPY_PRESSURE)
+    .reads_if_written(ATTACHMENT_STATE)
+    .monitors(monitors.iter().map(|m| m.name.clone()));
+    if let Some(o) = obstacles {
+        d = d
+            .writes(COLLISION_IMPULSE, 6, o.momenta.len() / 6)
+            .reads(COLLISION_BODIES);
+    }
+    d
+}
+
+/// Join the run as a structure participant, build the model of the
+/// scenario's `[structure]` section, and advance it with the stepper that
+/// `make` returns, to the end of the schedule.
 pub fn run<S: Stepper>(
     make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
 ) -> Result<(), Error> {
-    let mut p = Participant::connect(Role::Structure)?;
-    let scenario = p.scenario().clone();
+    let joining = participant::connect()?;
+    let scenario = Scenario::from_resolved(joining.scenario())?;
     let section = scenario
         .structure
         .as_ref()
@@ -206,6 +232,9 @@ pub fn run<S: Stepper>(
     let omega_max = stepper
         .is_scenario_integrator()
         .then(|| omega_max(&m.inv_mass, &m.couplings));
+    let first = monitors(&m, omega_max, obstacles.as_ref());
+    let n_s = scenario.coupling.structure_substeps;
+    let mut p = joining.declare(declaration(&m, obstacles.as_ref(), &first, n_s))?;
     let mut output = Output::new(p.run_dir(), &m);
     let mut substeps = 0u64;
     let mut pressure = None;
@@ -219,12 +248,12 @@ pub fn run<S: Stepper>(
             Command::Advance(step) => {
                 // The fluid publishes one pressure per window; impulse sub-steps
                 // after the first keep using it.
-                if p.is_connected(Field::CanopyPressure) && pressure_window != Some(step.window) {
-                    pressure = Some(p.read_field(Field::CanopyPressure)?);
+                if p.is_connected(CANOPY_PRESSURE) && pressure_window != Some(step.window) {
+                    pressure = Some(p.read_field(CANOPY_PRESSURE)?);
                     pressure_window = Some(step.window);
                 }
-                if p.is_connected(Field::AttachmentState) {
-                    let state = p.read_field(Field::AttachmentState)?;
+                if p.is_connected(ATTACHMENT_STATE) {
+                    let state = p.read_field(ATTACHMENT_STATE)?;
                     m.set_attachments(&state);
                     for a in &m.attachments {
                         let speed = a.v0.iter().map(|c| c * c).sum::<f64>().sqrt();
@@ -232,7 +261,7 @@ pub fn run<S: Stepper>(
                     }
                 }
                 if let Some(o) = &mut obstacles {
-                    o.set_states(&p.read_field(Field::CollisionBodies)?);
+                    o.set_states(&p.read_field(COLLISION_BODIES)?);
                 }
                 let loads = Loads {
                     pressure: pressure.as_deref().unwrap_or(&[]),
@@ -270,13 +299,13 @@ pub fn run<S: Stepper>(
                     return Err(msg.into());
                 }
                 let n_att = m.attachments.len();
-                p.write_field(Field::AttachmentImpulse, 3 * n_att, |out| {
+                p.write_field(ATTACHMENT_IMPULSE, 3 * n_att, |out| {
                     for (o, a) in out.chunks_exact_mut(3).zip(&m.attachments) {
                         o.copy_from_slice(&a.impulse);
                     }
                 })?;
                 if let Some(o) = &obstacles {
-                    p.write_field(Field::CollisionImpulse, o.momenta.len(), |out| {
+                    p.write_field(COLLISION_IMPULSE, o.momenta.len(), |out| {
                         out.copy_from_slice(&o.momenta)
                     })?;
                 }
@@ -292,7 +321,6 @@ pub fn run<S: Stepper>(
                 p.done(Vec::new())?;
             }
             Command::Stop => break,
-            Command::Setup(_) => return Err("unexpected second setup".into()),
         }
     }
     p.finish(substeps)?;

@@ -2,7 +2,7 @@
 //! seed 003 §2.1–§2.4, §3.2).
 //!
 //! The physics lives here and never touches IPC; `driver.rs` connects a
-//! model and its stepper to the coupler, and `main.rs` only picks the stepper. Data are flat arrays (`x`, `v`: xyz interleaved per node), and the
+//! model and its stepper to the participant library, and `main.rs` only picks the stepper. Data are flat arrays (`x`, `v`: xyz interleaved per node), and the
 //! step functions take their inputs explicitly. Force terms are in `forces/`,
 //! time integrators in `integrators/`, and the two meet only through the
 //! [`System`] trait.
@@ -13,6 +13,7 @@ pub mod collision;
 pub mod cross;
 pub mod divergence;
 pub mod driver;
+pub mod fields;
 pub mod forces;
 pub mod integrators;
 pub mod lines;

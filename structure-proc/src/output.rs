@@ -1,7 +1,7 @@
 //! `.vtu` output of the canopy and the strings.
 
 use crate::model::Model;
-use coupler::vtu::{CellKind, Piece, Series};
+use participant::vtu::{CellKind, Piece, Series};
 
 pub struct Output {
     canopy: Option<Series>,

@@ -5,7 +5,7 @@
 //! are chains of mesh edges, and each suspension line starts at a seam on the skirt.
 
 use crate::rings::{ring_mesh, MeshError, Ring};
-use coupler::scenario::parachute::CanopyGeometry;
+use scenario::parachute::CanopyGeometry;
 
 pub struct CanopyMesh {
     pub points: Vec<f64>,

@@ -1,9 +1,9 @@
 //! How large a step a spring-mass model allows: the highest eigenfrequency
 //! bound of seed 000 eq. (3.7), computed from the model. The schemes'
 //! stability intervals and the sub-step estimate built on it are the
-//! coupler's (`coupler::scenario::stability`), re-exported here.
+//! coupler's (`scenario::stability`), re-exported here.
 
-pub use coupler::scenario::stability::*;
+pub use scenario::stability::*;
 
 /// Upper bound on the highest angular eigenfrequency [rad/s] of the spring
 /// network, seed 000 eq. (3.7) taken node by node: ω_max² ≤ max_i 2·Σ_j k_ij/m_i

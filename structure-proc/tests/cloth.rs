@@ -2,8 +2,8 @@
 //! backward Euler: at rest the held corners carry the cloth's whole weight
 //! (static equilibrium: Σ F = 0 over the free nodes, so the reactions balance gravity).
 
-use coupler::scenario::structure::StructureSection;
-use coupler::Scenario;
+use scenario::structure::StructureSection;
+use scenario::Scenario;
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator, NodeKind};
 

@@ -4,9 +4,9 @@
 //! would pass through a thin body in one step; a node found inside a meshed
 //! body leaves through the nearest face.
 
-use coupler::scenario::structure::Collision;
-use coupler::scenario::RigidSection;
 use nalgebra::Vector3;
+use scenario::structure::Collision;
+use scenario::RigidSection;
 use structure_proc::collision::Obstacles;
 
 fn obstacles(scene: &str, thickness: f64, restitution: f64) -> Obstacles {

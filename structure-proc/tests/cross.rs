@@ -1,7 +1,7 @@
 //! The cross-shaped T-11 canopy (seed 000 table 5.2; the geometry is our
 //! assumption, see the README): a flat cross of five squares of side D₀/3.
 
-use coupler::scenario::parachute::ParachuteModel;
+use scenario::parachute::ParachuteModel;
 use structure_proc::cross::cross_canopy;
 
 #[test]

@@ -2,12 +2,12 @@
 //! `scenarios/c9-drop.toml`: 10 of 28 lines 0.3 m shorter than 7 m, and lines
 //! that break at a time or above a tension.
 
-use coupler::scenario::structure::{LineBreak, LineChange};
-use coupler::Scenario;
+use scenario::structure::{LineBreak, LineChange};
+use scenario::Scenario;
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator, Model};
 
-fn c9() -> coupler::scenario::StructureSection {
+fn c9() -> scenario::StructureSection {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/c9-drop.toml");
     Scenario::load(std::path::Path::new(path))
         .unwrap()
@@ -50,7 +50,7 @@ fn ten_of_28_lines_are_0_3_m_shorter() {
 }
 
 /// Step the C-9 (structure only: gravity, no air) until `t_end`.
-fn fall(s: &coupler::scenario::StructureSection, t_end: f64) -> Model {
+fn fall(s: &scenario::StructureSection, t_end: f64) -> Model {
     let dt = 1e-4;
     let mut m = build_model(s, None, dt).unwrap();
     let mut stepper = integrator(s.scheme());

@@ -1,7 +1,7 @@
 //! The Darcy–Forchheimer load applied by the structure itself
 //! (`[structure.porous]`, seed 003 eqs. 6–10), no fluid process involved.
 
-use coupler::Scenario;
+use scenario::Scenario;
 use structure_proc::forces::{Dynamics, Loads};
 use structure_proc::{build_model, integrator, Model, System};
 
@@ -51,7 +51,15 @@ fn a_flat_sheet_falls_at_the_ergun_terminal_speed() {
         ("backward-euler", 5e-3, 120),
     ] {
         let (s, mut m) = free_cloth(scheme, [0.0; 3]);
-        let law = porous::Porous::new(s.structure.as_ref().unwrap().porous.as_ref().unwrap());
+        let law = porous::Porous::new(
+            &s.structure
+                .as_ref()
+                .unwrap()
+                .porous
+                .as_ref()
+                .unwrap()
+                .params(),
+        );
         let g = -m.gravity[2];
         let sigma = 0.05;
         let (lin, quad) = (

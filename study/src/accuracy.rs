@@ -5,7 +5,7 @@
 
 use crate::cpu;
 use crate::reference::Reference;
-use coupler::scenario::structure::{Integrator, Scheme};
+use scenario::structure::{Integrator, Scheme};
 use structure_proc::integrators::theoretical_order;
 
 /// A run whose relative error grows past this has left the solution for good.

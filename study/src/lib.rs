@@ -9,10 +9,10 @@ pub mod elliptic;
 pub mod plot;
 pub mod reference;
 pub mod report;
-pub mod scenario;
+pub mod scene;
 pub mod stability;
 
-use coupler::scenario::structure::Integrator;
+use scenario::structure::Integrator;
 
 /// The distinct integrators of `items`, in the order they first appear.
 pub fn integrators_in(items: impl IntoIterator<Item = Integrator>) -> Vec<Integrator> {

@@ -2,9 +2,9 @@
 //! CPU time. A thin command line over the `study` library.
 
 use clap::{Args, Parser, Subcommand};
-use coupler::scenario::structure::Integrator;
+use scenario::structure::Integrator;
 use std::path::{Path, PathBuf};
-use study::{accuracy, plot, reference, report, scenario, stability};
+use study::{accuracy, plot, reference, report, scene, stability};
 
 /// Exit code for bad input, as the coupler's.
 const EXIT_BAD_INPUT: i32 = 2;
@@ -206,7 +206,7 @@ fn print_run(r: &accuracy::Run) {
 
 /// `coupler study accuracy --scenario PATH`.
 fn scenario_study(a: &AccuracyArgs, path: &Path, integrators: &[Integrator], levels: u32) -> i32 {
-    let probe = match scenario::ScenarioStudy::new(path, Path::new("."), a.end_time) {
+    let probe = match scene::ScenarioStudy::new(path, Path::new("."), a.end_time) {
         Ok(s) => s,
         Err(e) => return bad_input(e),
     };
@@ -217,16 +217,16 @@ fn scenario_study(a: &AccuracyArgs, path: &Path, integrators: &[Integrator], lev
     if let Err(code) = study_dir(&out) {
         return code;
     }
-    let study = scenario::ScenarioStudy {
+    let study = scene::ScenarioStudy {
         dir: out.clone(),
         ..probe
     };
     let base = study.scenario.coupling.structure_substeps as u64;
-    let finest = base << (levels - 1 + scenario::REFERENCE_HALVINGS);
-    if finest as f64 > coupler::scenario::MAX_SUBSTEPS {
+    let finest = base << (levels - 1 + scene::REFERENCE_HALVINGS);
+    if finest as f64 > scenario::MAX_SUBSTEPS {
         return bad_input(format!(
             "--levels {levels}: the reference would need {finest} sub-steps per window, more than {}",
-            coupler::scenario::MAX_SUBSTEPS
+            scenario::MAX_SUBSTEPS
         ));
     }
     let finest = finest as u32;
@@ -236,7 +236,7 @@ fn scenario_study(a: &AccuracyArgs, path: &Path, integrators: &[Integrator], lev
         integrators.len(),
         substeps.len(),
         study.name(),
-        scenario::REFERENCE.name(),
+        scene::REFERENCE.name(),
         study.step(finest)
     );
     let result = study
@@ -251,7 +251,7 @@ fn scenario_study(a: &AccuracyArgs, path: &Path, integrators: &[Integrator], lev
     };
     let steps: Vec<f64> = substeps.iter().map(|&n| study.step(n)).collect();
     let damping = study.scenario.structure.as_ref().map(|s| s.damping);
-    let caveat = if damping == Some(coupler::scenario::structure::Damping::RelativeVelocity) {
+    let caveat = if damping == Some(scenario::structure::Damping::RelativeVelocity) {
         "- **Caveat:** the scenario's damping = \"relative-velocity\" is seed 003 eq. (68), c = k·Δt_s: the model itself changes with the step, so every scheme's error includes that change and converges at first order at best.\n"
     } else {
         ""
@@ -264,8 +264,8 @@ fn scenario_study(a: &AccuracyArgs, path: &Path, integrators: &[Integrator], lev
         study.path.display(),
         study.scenario.run.end_time - study.scenario.run.start_time,
         study.scenario.coupling.window,
-        scenario::ERROR_MEASURE,
-        scenario::REFERENCE.name(),
+        scene::ERROR_MEASURE,
+        scene::REFERENCE.name(),
         study.step(finest),
         finest,
         steps[0],

@@ -3,8 +3,8 @@
 
 use crate::accuracy::{Run, Status};
 use crate::stability::{predicted_omega_h, Cell, Chain, Limit, Outcome};
-use coupler::scenario::structure::Integrator;
 use plotters::prelude::*;
+use scenario::structure::Integrator;
 use std::path::Path;
 use std::sync::Once;
 

@@ -4,7 +4,7 @@
 //! §2.5.1, and the spring pendulum of seed 003 §2.5.2.
 
 use crate::elliptic::{complete_k, sn_cn_dn};
-use coupler::scenario::structure::STANDARD_GRAVITY;
+use scenario::structure::STANDARD_GRAVITY;
 use structure_proc::forces::{elastic_energy, Dynamics, Loads};
 use structure_proc::{Model, NodeKind, Spring, System};
 

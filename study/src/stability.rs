@@ -5,7 +5,7 @@
 
 use crate::accuracy::scheme;
 use crate::reference::{mechanical_energy, Owned};
-use coupler::scenario::structure::Integrator;
+use scenario::structure::Integrator;
 use structure_proc::stability::{self, Interval};
 use structure_proc::{Model, NodeKind, Spring, System};
 

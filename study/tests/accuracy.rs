@@ -3,7 +3,7 @@
 //! oscillator of seed 003 appendix A (eqs. 77–81) and the undamped simple
 //! pendulum (seed 003 eqs. 58–61, exact through Jacobi's elliptic functions).
 
-use coupler::scenario::structure::Integrator;
+use scenario::structure::Integrator;
 use study::accuracy::{ladder, summarise, sweep, Status};
 use study::reference::{by_name, Reference};
 

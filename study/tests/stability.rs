@@ -1,7 +1,7 @@
 //! The stability sweep against theory on a linear spring chain: the bound
 //! ω_max of seed 000 eq. (3.7) times each scheme's stability interval.
 
-use coupler::scenario::structure::Integrator;
+use scenario::structure::Integrator;
 use structure_proc::stability::{interval, Interval};
 use study::accuracy::scheme;
 use study::stability::{self, log_grid, Chain, Outcome};

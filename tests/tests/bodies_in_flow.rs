@@ -121,7 +121,7 @@ const STREAM: f64 = 6.0;
 /// height z [m], from the last `.vti` of a run of `scenarios/wake.toml`
 /// (64 × 1 × 128 cells of 62.5 mm from (−2, ·, −4)).
 fn centre_line(run: &std::path::Path) -> impl Fn(f64) -> f64 {
-    let velocity = coupler::vtu::read_cell_data(&last_vti(run), "velocity").unwrap();
+    let velocity = participant::vtu::read_cell_data(&last_vti(run), "velocity").unwrap();
     assert_eq!(velocity.len(), 3 * 64 * 128);
     move |z: f64| {
         let k = ((z + 4.0) / 0.0625) as usize;
@@ -173,7 +173,7 @@ fn a_finite_parachutist_leaves_a_wake_and_a_mass_point_does_not() {
     });
     let out = dir.join("point");
     run_ok(&point, &out);
-    let velocity = coupler::vtu::read_cell_data(&last_vti(&out), "velocity").unwrap();
+    let velocity = participant::vtu::read_cell_data(&last_vti(&out), "velocity").unwrap();
     for (i, v) in velocity.iter().enumerate() {
         let exact = if i % 3 == 2 { STREAM } else { 0.0 };
         assert!((v - exact).abs() < 1e-12, "velocity component {i}: {v}");

@@ -3,8 +3,8 @@
 //! valid, and the air and damping only ever take energy out.
 
 use canopy_tests::*;
-use coupler::scenario::parachute::{Parachute, ParachuteModel};
-use coupler::vtu;
+use participant::vtu;
+use scenario::parachute::{Parachute, ParachuteModel};
 use structure_proc::build_model;
 
 #[test]
@@ -31,7 +31,7 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
         change(s.structure.as_mut().unwrap().parachute.as_mut().unwrap());
     });
     run_ok(&path, &dir.join("run"));
-    let s = coupler::Scenario::load(&path).unwrap();
+    let s = scenario::Scenario::load(&path).unwrap();
     let model = build_model(s.structure.as_ref().unwrap(), None, 1e-4).unwrap();
     assert_eq!(
         model.lines.len(),
@@ -124,10 +124,10 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
 /// up to the one-sub-step lag of the impulse exchange.
 #[test]
 fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
-    use coupler::scenario::rigid::{BodySpec, RigidSection};
-    use coupler::scenario::ParticipantSpec;
+    use scenario::rigid::{BodySpec, RigidSection};
+    use scenario::ParticipantSpec;
     let dir = scratch("c9-body");
-    let shorten = |s: &mut coupler::Scenario| {
+    let shorten = |s: &mut scenario::Scenario| {
         s.run.end_time = 0.5;
         s.run.output_interval = 0.0;
     };

@@ -2,8 +2,8 @@
 //! (porous free-stream Ergun load, seed 003 eqs. 6–10) and structure-proc.
 
 use canopy_tests::*;
-use coupler::vtu;
 use fluid_proc::Porous;
+use participant::vtu;
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator};
 
@@ -43,7 +43,7 @@ fn transport_changes_no_number() {
         s.run.output_interval = 0.0;
     });
     run_ok(&path, &dir.join("run"));
-    let s = coupler::Scenario::load(&path).unwrap();
+    let s = scenario::Scenario::load(&path).unwrap();
 
     // The same model stepped in this process, with no IPC, in the schedule's order:
     // per window the fluid load from the last published state, then n_s structure steps.
@@ -60,7 +60,8 @@ fn transport_changes_no_number() {
             .as_ref()
             .unwrap()
             .porous_load()
-            .expect("porous keys"),
+            .expect("porous keys")
+            .params(),
     );
     let n = model.canopy_nodes;
     let mut pressure = vec![0.0; model.triangles.len()];
@@ -95,7 +96,7 @@ fn transport_changes_no_number() {
 /// and only the springs, gravity and the Ergun load remain.
 #[test]
 fn every_integrator_reaches_the_same_equilibrium() {
-    use coupler::scenario::structure::Integrator;
+    use scenario::structure::Integrator;
     let mut finals = Vec::new();
     for integrator in Integrator::ALL {
         let dir = scratch(&format!("integrator-{}", integrator.name()));

@@ -5,7 +5,7 @@
 //! with a large step the run must stop with a diagnostic, not go on.
 
 use canopy_tests::*;
-use coupler::scenario::structure::Integrator;
+use scenario::structure::Integrator;
 
 /// ω_max of eq. (3.7) for the spring pendulum [rad/s].
 const OMEGA_MAX: f64 = 20.0;

@@ -1,48 +1,9 @@
-//! The coupling exchange between real processes: bit-exact fields, the
-//! schedule each participant sees, failure handling, isolation of runs.
+//! The coupling exchange between real processes: the schedule each
+//! participant sees, failure handling, isolation of runs. (Bit-exact
+//! fields: `participant/tests/exchange.rs`.)
 
 use canopy_tests::*;
-use coupler::launcher::bench::{End, Peer};
 use std::time::{Duration, Instant};
-
-/// xorshift64*: random bit patterns, NaN payloads and subnormals included.
-fn random_bits(n: usize, seed: u64) -> Vec<f64> {
-    let mut s = seed | 1;
-    (0..n)
-        .map(|_| {
-            s ^= s >> 12;
-            s ^= s << 25;
-            s ^= s >> 27;
-            f64::from_bits(s.wrapping_mul(0x2545_f491_4f6c_dd1d))
-        })
-        .collect()
-}
-
-#[test]
-fn fields_arrive_bit_exact_from_1_to_a_million_values() {
-    let run = format!("bitexact{}", std::process::id());
-    let end = End::open(&run, true, 1 << 20).unwrap();
-    let _peer = Peer::start(&coupler_exe(), &run, true).unwrap();
-    let never = || false;
-    for (k, n) in [1usize, 2, 3, 10, 1000, 4097, 100_000, 1_000_000]
-        .into_iter()
-        .enumerate()
-    {
-        let mut data = random_bits(n, 0x9e37_79b9 + k as u64);
-        data[0] = if n > 1 { -0.0 } else { data[0] };
-        end.send(n, |out| out.copy_from_slice(&data)).unwrap();
-        let back = end
-            .receive(Duration::from_secs(10), &never, |pong| pong.to_vec())
-            .unwrap();
-        assert_eq!(back.len(), n);
-        let differing = back
-            .iter()
-            .zip(&data)
-            .filter(|(a, b)| a.to_bits() != b.to_bits())
-            .count();
-        assert_eq!(differing, 0, "{differing} of {n} values changed in transit");
-    }
-}
 
 /// Sub-steps a participant reported taking, from the manifest.
 fn substeps(manifest: &serde_json::Value, role: &str) -> u64 {
@@ -59,7 +20,7 @@ fn substeps(manifest: &serde_json::Value, role: &str) -> u64 {
 fn run_variant(
     scene: &str,
     dir: &std::path::Path,
-    change: impl FnOnce(&mut coupler::Scenario),
+    change: impl FnOnce(&mut scenario::Scenario),
 ) -> (serde_json::Value, u64) {
     let path = variant(scene, dir, change);
     let out = dir.join(scene);
@@ -152,7 +113,7 @@ fn a_killed_participant_fails_the_run_within_two_seconds() {
     assert_eq!(m["culprit"], "structure");
     let run_id = m["run_id"].as_str().unwrap();
     assert_eq!(
-        coupler::channel::services_of_run(run_id),
+        participant::supervisor::services_of_run(run_id),
         Vec::<String>::new(),
         "stale services left"
     );
@@ -262,7 +223,7 @@ fn ctrl_c_stops_everything_cleanly() {
     let m = manifest(&out);
     assert_eq!(m["status"], "interrupted");
     assert_eq!(
-        coupler::channel::services_of_run(m["run_id"].as_str().unwrap()),
+        participant::supervisor::services_of_run(m["run_id"].as_str().unwrap()),
         Vec::<String>::new()
     );
     assert!(Monitors::read(&out).rows.len() > 1);
@@ -270,9 +231,9 @@ fn ctrl_c_stops_everything_cleanly() {
 
 #[test]
 fn three_participants_exchange_every_field_each_sub_step() {
-    use coupler::scenario::rigid::{BodySpec, RigidSection};
-    use coupler::scenario::structure::StringSpec;
-    use coupler::scenario::ParticipantSpec;
+    use scenario::rigid::{BodySpec, RigidSection};
+    use scenario::structure::StringSpec;
+    use scenario::ParticipantSpec;
     // The porous canopy plus a payload hanging from a string: fluid, structure and
     // rigid all take part, with two impulse sub-steps per window.
     let dir = scratch("three");
@@ -334,9 +295,9 @@ fn participants_do_not_outlive_a_killed_coupler() {
         std::thread::sleep(Duration::from_millis(10));
     }
     // What the dead processes left is cleaned as the next run starts.
-    coupler::channel::cleanup_dead_nodes();
+    participant::supervisor::cleanup_dead_nodes();
     assert_eq!(
-        coupler::channel::services_of_run(&run_id),
+        participant::supervisor::services_of_run(&run_id),
         Vec::<String>::new()
     );
 }

@@ -8,7 +8,7 @@
 //! can only fall: E(t) ≤ E(0).
 
 use canopy_tests::*;
-use coupler::scenario::structure::Integrator;
+use scenario::structure::Integrator;
 use std::path::Path;
 
 /// Run `scenario` into `out`; the exit code and stderr.

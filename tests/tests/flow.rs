@@ -6,7 +6,7 @@
 //! readable `.vti` files.
 
 use canopy_tests::*;
-use coupler::vtu;
+use participant::vtu;
 
 #[test]
 fn the_c9_set_up_passes_a_uniform_stream_through_unchanged() {

@@ -4,8 +4,7 @@
 
 use super::programs;
 use super::Checked;
-use crate::protocol::Role;
-use crate::scenario::stability::{self, Interval, OMEGA_MAX_FLAG};
+use scenario::stability::{self, Interval, OMEGA_MAX_FLAG};
 use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -24,7 +23,7 @@ pub fn report(checked: &mut Checked) {
     let Some((_, program)) = checked
         .programs
         .iter_mut()
-        .find(|(r, _)| *r == Role::Structure)
+        .find(|(name, _)| name == "structure")
     else {
         return;
     };

@@ -3,19 +3,18 @@
 //! directory. Only the `coupler` binary uses this (feature `launcher`).
 
 pub mod bench;
-pub mod control;
+pub mod coupling;
 pub mod estimate;
 pub mod monitors;
 pub mod programs;
 pub mod progress;
 pub mod run;
-pub mod schedule;
 pub mod study;
 pub mod supervise;
 
-use crate::protocol::Role;
-use crate::scenario::{Scenario, ScenarioError};
+use participant::Timing;
 use programs::Program;
+use scenario::{Scenario, ScenarioError};
 use std::path::{Path, PathBuf};
 
 /// Exit code for bad input (scenario, arguments, missing program).
@@ -25,11 +24,12 @@ pub const EXIT_RUN_FAILED: i32 = 1;
 /// Exit code after Ctrl-C.
 pub const EXIT_INTERRUPTED: i32 = 130;
 
-/// A scenario with the program that plays each role.
+/// A scenario with the program that plays each participant.
 pub struct Checked {
     pub path: PathBuf,
     pub scenario: Scenario,
-    pub programs: Vec<(Role, Program)>,
+    /// Each participant's name and program, in the scenario's order.
+    pub programs: Vec<(String, Program)>,
     /// `mpirun`, when a participant runs on several ranks.
     pub mpirun: Option<PathBuf>,
 }
@@ -40,13 +40,13 @@ pub fn load_checked(path: &Path) -> Result<Checked, ScenarioError> {
     let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::io(path, &e))?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut programs = Vec::new();
-    for role in scenario.participants.roles() {
+    for role in scenario.participants.names() {
         let spec = scenario
             .participants
             .get(role)
-            .expect("roles() lists present roles");
+            .expect("names() lists present participants");
         match programs::resolve(&spec.program, &dir) {
-            Some(p) => programs.push((role, p)),
+            Some(p) => programs.push((role.to_string(), p)),
             None => {
                 let where_ = if spec.program.contains('/') {
                     format!(
@@ -59,14 +59,14 @@ pub fn load_checked(path: &Path) -> Result<Checked, ScenarioError> {
                 return Err(ScenarioError::at_key(
                     path,
                     &text,
-                    &["participants", role.name(), "program"],
+                    &["participants", role, "program"],
                     format!("program `{}` not found: {where_}", spec.program),
                 ));
             }
         }
     }
     let mut mpirun = None;
-    for role in scenario.participants.roles() {
+    for role in scenario.participants.names() {
         let ranks = scenario.participants.get(role).map_or(1, |s| s.ranks());
         if ranks > 1 && mpirun.is_none() {
             match programs::resolve("mpirun", &dir) {
@@ -75,11 +75,11 @@ pub fn load_checked(path: &Path) -> Result<Checked, ScenarioError> {
                     return Err(ScenarioError::at_key(
                         path,
                         &text,
-                        &["participants", role.name(), "ranks"],
+                        &["participants", role, "ranks"],
                         format!(
                             "ranks = {ranks} starts `{}` under mpirun, which is not on PATH \
                              (Debian: apt-get install openmpi-bin)",
-                            role.name()
+                            role
                         ),
                     ))
                 }
@@ -110,7 +110,7 @@ pub fn check(path: &Path) -> i32 {
         "  time      {} → {} s, {} windows of Δt_f = {} s",
         s.run.start_time,
         s.run.end_time,
-        s.windows(),
+        timing(s).windows(),
         c.window
     );
     println!(
@@ -120,20 +120,30 @@ pub fn check(path: &Path) -> i32 {
         c.impulse_substeps
     );
     for (role, program) in &checked.programs {
-        let ranks = s.participants.get(*role).map_or(1, |p| p.ranks());
+        let ranks = s.participants.get(role).map_or(1, |p| p.ranks());
         if ranks > 1 {
-            println!("  {:<9} on {ranks} ranks, under mpirun", role.name());
+            println!("  {role:<9} on {ranks} ranks, under mpirun");
         }
         match program {
-            Program::Found(p) => println!("  {:<9} {}", role.name(), p.display()),
+            Program::Found(p) => println!("  {role:<9} {}", p.display()),
             Program::Buildable { package, .. } => {
-                println!(
-                    "  {:<9} workspace package `{package}` (built on first run)",
-                    role.name()
-                )
+                println!("  {role:<9} workspace package `{package}` (built on first run)")
             }
         }
     }
     estimate::report(&mut checked);
     0
+}
+
+/// The run's clock, as every participant gets it in its setup.
+pub fn timing(s: &Scenario) -> Timing {
+    Timing {
+        start_time: s.run.start_time,
+        end_time: s.run.end_time,
+        window: s.coupling.window,
+        output_interval: s.run.output_interval,
+        structure_substeps: s.coupling.structure_substeps,
+        impulse_substeps: s.coupling.impulse_substeps,
+        timeout: s.coupling.timeout,
+    }
 }

@@ -1,78 +1,203 @@
-//! `monitors.csv`: one row per coupling window with the total kinetic and
-//! potential energy and every monitor the participants report, as `role.name`.
+//! `monitors.csv`: one row at the start and one per coupling window, with
+//! the total kinetic and potential energy and every monitor the
+//! participants declared, as `participant.name`, in the scenario's order
+//! of participants and each one's order of declaration.
+//!
+//! Participants send their rows in batches as they run; a row is written
+//! once every participant has sent it. The file is created with its header
+//! only once the columns are known, so it never exists without one, and
+//! every row is written whole: a failed write leaves the rows before it.
 
-use crate::protocol::{Monitor, Role};
-use std::collections::BTreeMap;
-use std::io::{BufWriter, Write};
-use std::path::Path;
+use participant::{Declaration, Timing};
+use std::collections::VecDeque;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// One participant's columns and the rows it sent that are not written yet.
+struct Part {
+    width: usize,
+    pending: VecDeque<Vec<f64>>,
+    /// Number of the next row expected from it.
+    next: u64,
+}
 
 pub struct Monitors {
-    out: BufWriter<std::fs::File>,
-    latest: BTreeMap<Role, Vec<Monitor>>,
-    columns: Option<Vec<(Role, String)>>,
+    path: PathBuf,
+    file: std::fs::File,
+    /// Whole lines not yet written, and the file's length up to the last
+    /// whole line written.
+    buffer: String,
+    length: u64,
+    parts: Vec<Part>,
+    /// (participant, column) of every `kinetic_energy` and `potential_energy`.
+    kinetic: Vec<(usize, usize)>,
+    potential: Vec<(usize, usize)>,
+    timing: Timing,
+    /// Rows written so far.
+    pub written: u64,
+}
+
+/// Why a row could not be taken or written.
+#[derive(Debug, thiserror::Error)]
+pub enum MonitorsError {
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("participant `{0}` sent monitor rows out of order or of the wrong width")]
+    Malformed(String),
 }
 
 impl Monitors {
-    pub fn create(path: &Path) -> std::io::Result<Monitors> {
+    /// Create `path` with its header: `names[i]` declared `declarations[i]`.
+    pub fn create(
+        path: &Path,
+        names: &[String],
+        declarations: &[Declaration],
+        timing: &Timing,
+    ) -> Result<Monitors, MonitorsError> {
+        let mut header = String::from("time,kinetic_energy,potential_energy");
+        let (mut kinetic, mut potential) = (Vec::new(), Vec::new());
+        for (p, (name, d)) in names.iter().zip(declarations).enumerate() {
+            for (c, m) in d.monitor_names().iter().enumerate() {
+                header.push_str(&format!(",{name}.{m}"));
+                match m.as_str() {
+                    "kinetic_energy" => kinetic.push((p, c)),
+                    "potential_energy" => potential.push((p, c)),
+                    _ => {}
+                }
+            }
+        }
+        let io = |source| MonitorsError::Io {
+            path: path.display().to_string(),
+            source,
+        };
+        // Written aside and renamed, so the file appears with its header.
+        let header = format!("{header}\n");
+        let tmp = path.with_extension("csv.tmp");
+        let written = std::fs::write(&tmp, &header).and_then(|_| std::fs::rename(&tmp, path));
+        if let Err(e) = written {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(io(e));
+        }
+        let file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(path)
+            .map_err(io)?;
         Ok(Monitors {
-            out: BufWriter::new(std::fs::File::create(path)?),
-            latest: BTreeMap::new(),
-            columns: None,
+            path: path.to_path_buf(),
+            file,
+            buffer: String::new(),
+            length: header.len() as u64,
+            parts: declarations
+                .iter()
+                .map(|d| Part {
+                    width: d.monitor_names().len(),
+                    pending: VecDeque::new(),
+                    next: 0,
+                })
+                .collect(),
+            kinetic,
+            potential,
+            timing: *timing,
+            written: 0,
         })
     }
 
-    /// Keep the newest monitors of `role`; an empty list (mid-window replies) keeps the old ones.
-    pub fn update(&mut self, role: Role, monitors: Vec<Monitor>) {
-        if !monitors.is_empty() {
-            self.latest.insert(role, monitors);
+    /// Take `rows` rows from participant `p` (named `name`), starting at `first_row`.
+    pub fn add(
+        &mut self,
+        p: usize,
+        name: &str,
+        first_row: u64,
+        rows: u64,
+        width: u32,
+        values: Vec<f64>,
+    ) -> Result<(), MonitorsError> {
+        let part = &mut self.parts[p];
+        let ok = first_row == part.next
+            && width as usize == part.width
+            && values.len() as u64 == rows * width as u64;
+        if !ok {
+            return Err(MonitorsError::Malformed(name.to_string()));
         }
+        part.next += rows;
+        for r in 0..rows as usize {
+            let row = match part.width {
+                0 => Vec::new(),
+                w => values[r * w..(r + 1) * w].to_vec(),
+            };
+            part.pending.push_back(row);
+        }
+        Ok(())
     }
 
-    /// Write one row at simulated `time`. The first row fixes the columns.
-    pub fn row(&mut self, time: f64) -> std::io::Result<()> {
-        if self.columns.is_none() {
-            let cols: Vec<(Role, String)> = self
-                .latest
-                .iter()
-                .flat_map(|(r, ms)| ms.iter().map(|m| (*r, m.name.clone())))
-                .collect();
-            let mut header = String::from("time,kinetic_energy,potential_energy");
-            for (r, n) in &cols {
-                header.push_str(&format!(",{}.{}", r.name(), n));
+    /// Simulated time of row `r`: the start, then each window's end.
+    pub fn time_of(&self, r: u64) -> f64 {
+        match r {
+            0 => self.timing.start_time,
+            _ => {
+                let (t, dt) = self.timing.window_span(r - 1);
+                t + dt
             }
-            writeln!(self.out, "{header}")?;
-            self.columns = Some(cols);
         }
-        let value = |role: Role, name: &str| {
-            self.latest
-                .get(&role)
-                .and_then(|ms| ms.iter().find(|m| m.name == name))
-                .map(|m| m.value)
-                .unwrap_or(f64::NAN)
-        };
-        let sum = |name: &str| {
-            Role::ALL
-                .iter()
-                .filter_map(|r| {
-                    self.latest
-                        .get(r)
-                        .and_then(|ms| ms.iter().find(|m| m.name == name))
-                        .map(|m| m.value)
-                })
-                .sum::<f64>()
-        };
-        let mut line = format!(
-            "{time},{},{}",
-            sum("kinetic_energy"),
-            sum("potential_energy")
-        );
-        for (r, n) in self.columns.as_ref().into_iter().flatten() {
-            line.push_str(&format!(",{}", value(*r, n)));
-        }
-        writeln!(self.out, "{line}")
     }
 
-    pub fn flush(&mut self) -> std::io::Result<()> {
-        self.out.flush()
+    /// Take every row all participants have sent into the file's buffer;
+    /// returns how many.
+    pub fn complete_rows(&mut self) -> u64 {
+        let mut n = 0;
+        while self.parts.iter().all(|p| !p.pending.is_empty()) {
+            let line = self.line();
+            for p in &mut self.parts {
+                p.pending.pop_front();
+            }
+            self.buffer.push_str(&line);
+            self.buffer.push('\n');
+            self.written += 1;
+            n += 1;
+        }
+        n
+    }
+
+    /// The next row, from the front of every participant's queue.
+    fn line(&self) -> String {
+        let value = |&(p, c): &(usize, usize)| self.parts[p].pending[0][c];
+        let kinetic: f64 = self.kinetic.iter().map(value).sum();
+        let potential: f64 = self.potential.iter().map(value).sum();
+        let mut line = format!("{},{kinetic},{potential}", self.time_of(self.written));
+        for p in &self.parts {
+            for v in &p.pending[0] {
+                line.push_str(&format!(",{v}"));
+            }
+        }
+        line
+    }
+
+    fn io(&self, source: std::io::Error) -> MonitorsError {
+        MonitorsError::Io {
+            path: self.path.display().to_string(),
+            source,
+        }
+    }
+
+    /// Write the buffered rows. If the write fails (a full disk), the file
+    /// is cut back to its last whole row, so it stays readable.
+    pub fn flush(&mut self) -> Result<(), MonitorsError> {
+        if self.buffer.is_empty() {
+            return Ok(());
+        }
+        match self.file.write_all(self.buffer.as_bytes()) {
+            Ok(()) => {
+                self.length += self.buffer.len() as u64;
+                self.buffer.clear();
+                Ok(())
+            }
+            Err(e) => {
+                let _ = self.file.set_len(self.length);
+                Err(self.io(e))
+            }
+        }
     }
 }

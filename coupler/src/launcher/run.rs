@@ -1,15 +1,13 @@
 //! `coupler run`: launch the participants a scenario lists, drive the schedule,
 //! supervise, and leave a run directory.
 
-use super::control::{Control, ControlError};
-use super::monitors::Monitors;
+use super::coupling::{self, CouplingError, Shared};
 use super::programs::{self, Program};
 use super::progress::Progress;
 use super::supervise::{self, Child, Exit};
-use super::{schedule, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_RUN_FAILED};
-use crate::protocol::{Role, Setup};
-use crate::scenario::stability::{self, Estimate};
-use crate::{channel, names};
+use super::{EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_RUN_FAILED};
+use participant::supervisor::{self as names, Setup, SuperviseError, Supervisor};
+use scenario::stability::{self, Estimate};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -19,9 +17,11 @@ use tokio::sync::{mpsc, oneshot};
 
 /// How a run ended, before it is turned into an exit code.
 enum End {
-    Completed(schedule::Outcome),
+    Completed(coupling::Outcome),
     /// The participant to blame (if one is) and the reason.
-    Failed(Option<Role>, String),
+    Failed(Option<String>, String),
+    /// The scenario's participants do not fit together (bad input).
+    Refused(String),
     Interrupted,
 }
 
@@ -74,7 +74,7 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
     });
     let _ = std::fs::write(run_dir.join("manifest.json"), early.to_string());
     // Stale resources of earlier runs that died are removed before this one starts.
-    channel::cleanup_dead_nodes();
+    names::cleanup_dead_nodes();
 
     let runtime = match tokio::runtime::Builder::new_current_thread()
         .enable_all()
@@ -87,11 +87,12 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
         }
     };
     let (end, children, estimate) = runtime.block_on(supervise_run(&checked, &run_id, &run_dir));
-    channel::cleanup_dead_nodes();
+    names::cleanup_dead_nodes();
 
     let (status, code) = match &end {
         End::Completed(_) => ("completed", 0),
         End::Failed(..) => ("failed", EXIT_RUN_FAILED),
+        End::Refused(_) => ("refused", EXIT_BAD_INPUT),
         End::Interrupted => ("interrupted", EXIT_INTERRUPTED),
     };
     let manifest = manifest(
@@ -115,11 +116,7 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
             if let Some(child) = role.and_then(|r| children.iter().find(|c| c.role == r)) {
                 let tail = child.tail();
                 if !tail.is_empty() {
-                    eprintln!(
-                        "last stderr lines of `{}` ({}):",
-                        child.role.name(),
-                        child.program
-                    );
+                    eprintln!("last stderr lines of `{}` ({}):", child.role, child.program);
                     for l in tail {
                         eprintln!("  | {l}");
                     }
@@ -127,6 +124,7 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
             }
             eprintln!("outputs written so far are in {}", run_dir.display());
         }
+        End::Refused(reason) => eprintln!("error: {}: {reason}", scenario_path.display()),
         End::Interrupted => eprintln!(
             "interrupted: all participants stopped; outputs so far are in {}",
             run_dir.display()
@@ -135,77 +133,36 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
     code
 }
 
+/// What the launcher and the coupling thread share.
+#[derive(Clone)]
+struct Flags {
+    /// Set to stop the coupling thread's waits.
+    abort: Arc<AtomicBool>,
+    /// The participants that have sent their statistics, so that their
+    /// exits are expected.
+    finished: Arc<Mutex<Vec<String>>>,
+    estimate: Arc<Mutex<Option<Estimate>>>,
+}
+
+type Done = oneshot::Receiver<Result<coupling::Outcome, CouplingError>>;
+
 async fn supervise_run(
     checked: &super::Checked,
     run_id: &str,
     run_dir: &Path,
 ) -> (End, Vec<Child>, Option<Estimate>) {
-    let scenario = checked.scenario.clone();
-    let roles = scenario.participants.roles();
-    let abort = Arc::new(AtomicBool::new(false));
-    let stopping = Arc::new(AtomicBool::new(false));
-    let (ready_tx, ready_rx) = oneshot::channel::<Result<(), String>>();
-    let (done_tx, mut done_rx) = oneshot::channel::<Result<schedule::Outcome, ControlError>>();
-    let estimate = Arc::new(Mutex::new(None));
-
-    let thread = {
-        let (abort, stopping, estimate) = (abort.clone(), stopping.clone(), estimate.clone());
-        let setup = Setup {
-            run_id: run_id.to_string(),
-            run_dir: run_dir.to_path_buf(),
-            scenario_toml: scenario.to_toml(),
-            present: roles.clone(),
-        };
-        let monitors_path = run_dir.join("monitors.csv");
-        let (run_id, roles, scenario) = (run_id.to_string(), roles.clone(), scenario.clone());
-        std::thread::spawn(move || {
-            let mut ctl = match Control::open(&run_id, &roles, abort) {
-                Ok(c) => c,
-                Err(e) => {
-                    let _ = ready_tx.send(Err(e.to_string()));
-                    return;
-                }
-            };
-            let mut monitors = match Monitors::create(&monitors_path) {
-                Ok(m) => m,
-                Err(e) => {
-                    let _ = ready_tx.send(Err(format!("cannot create monitors.csv: {e}")));
-                    return;
-                }
-            };
-            let _ = ready_tx.send(Ok(()));
-            let mut progress = Progress::new(
-                &scenario.run.name,
-                scenario.run.start_time,
-                scenario.run.end_time,
-            );
-            let result = schedule::run(
-                &mut ctl,
-                &scenario,
-                &setup,
-                &mut monitors,
-                &mut progress,
-                &stopping,
-                &estimate,
-            );
-            match &result {
-                Ok(o) => progress.finish(scenario.run.end_time, o.windows),
-                Err(_) => progress.abandon(),
-            }
-            let _ = monitors.flush();
-            let _ = done_tx.send(result);
-        })
+    let flags = Flags {
+        abort: Arc::new(AtomicBool::new(false)),
+        finished: Arc::new(Mutex::new(Vec::new())),
+        estimate: Arc::new(Mutex::new(None)),
     };
-
+    let (thread, ready_rx, mut done_rx) = coupling_thread(checked, run_id, run_dir, &flags);
     // Signals are caught from before the first child starts to the end.
-    use tokio::signal::unix::{signal, SignalKind};
-    let mut sigint = signal(SignalKind::interrupt()).ok();
-    let mut sigterm = signal(SignalKind::terminate()).ok();
-    let mut sighup = signal(SignalKind::hangup()).ok();
+    let mut signals = Signals::install();
     let mut children: Vec<Child> = Vec::new();
     let (exit_tx, mut exit_rx) = mpsc::unbounded_channel::<Exit>();
     let mut end = match ready_rx.await {
-        Ok(Ok(())) => None,
+        Ok(Ok(())) => spawn_all(checked, run_id, run_dir, &exit_tx, &mut children).err(),
         Ok(Err(e)) => Some(End::Failed(
             None,
             format!("cannot open the coupling channels: {e}"),
@@ -216,108 +173,27 @@ async fn supervise_run(
         )),
     };
     if end.is_none() {
-        let env = [(names::ENV_RUN_ID, run_id.to_string())];
-        for (role, program) in &checked.programs {
-            let Program::Found(path) = program else {
-                continue;
-            };
-            let spec = scenario.participants.get(*role).expect("listed role");
-            let mut env = env.to_vec();
-            env.push((names::ENV_ROLE, role.name().to_string()));
-            let (path, args) = match (&checked.mpirun, spec.ranks()) {
-                (Some(mpirun), ranks) if ranks > 1 => {
-                    env.extend(crate::mpirun::env(ranks));
-                    (mpirun, crate::mpirun::args(ranks, path, &spec.args))
-                }
-                _ => (path, spec.args.clone()),
-            };
-            match supervise::spawn(*role, path, &args, &env, run_dir, exit_tx.clone()) {
-                Ok(c) => children.push(c),
-                Err(e) => {
-                    end = Some(End::Failed(
-                        Some(*role),
-                        format!(
-                            "cannot start `{}` for participant `{}`: {e}",
-                            path.display(),
-                            role.name()
-                        ),
-                    ));
-                    break;
-                }
-            }
-        }
+        let watched = watch(
+            &mut children,
+            &mut exit_rx,
+            &mut done_rx,
+            &flags,
+            &mut signals,
+        );
+        end = Some(match watched.await {
+            Ok(outcome) => completed(outcome, &mut children, &mut exit_rx).await,
+            Err(end) => end,
+        });
     }
-
-    let mut completed = None;
-    while end.is_none() {
-        tokio::select! {
-            Some(exit) = exit_rx.recv() => {
-                record_exit(&mut children, &exit);
-                let stopping = stopping.load(Ordering::SeqCst);
-                let ok = matches!(&exit.status, Ok(s) if s.success());
-                if !stopping || !ok {
-                    // A participant that said why it fails exits right after; its
-                    // reason, already on its way to the coupling thread, is the better message.
-                    if let Ok(Ok(Err(e @ ControlError::Failed { .. }))) = tokio::time::timeout(Duration::from_millis(200), &mut done_rx).await {
-                        end = Some(End::Failed(Some(exit.role), e.to_string()));
-                        continue;
-                    }
-                    let how = match &exit.status {
-                        Ok(s) => supervise::describe(s),
-                        Err(e) => format!("could not be waited on: {e}"),
-                    };
-                    let program = children.iter().find(|c| c.role == exit.role).map(|c| c.program.clone()).unwrap_or_default();
-                    end = Some(End::Failed(Some(exit.role), format!("participant `{}` ({program}) {how} before the run ended", exit.role.name())));
-                }
-            }
-            result = &mut done_rx => {
-                match result {
-                    Ok(Ok(outcome)) => { completed = Some(outcome); break; }
-                    Ok(Err(e)) => {
-                        let role = match &e {
-                            ControlError::Failed { role, .. } | ControlError::Timeout { role, .. } | ControlError::Protocol { role, .. } => Role::from_name(role),
-                            _ => None,
-                        };
-                        end = Some(End::Failed(role, e.to_string()));
-                    }
-                    Err(_) => end = Some(End::Failed(None, "the coupling thread stopped unexpectedly".into())),
-                }
-            }
-            _ = next_signal(&mut sigint) => end = Some(End::Interrupted),
-            _ = next_signal(&mut sigterm) => end = Some(End::Interrupted),
-            _ = next_signal(&mut sighup) => end = Some(End::Interrupted),
-        }
-    }
-
-    if let Some(outcome) = completed {
-        // Participants exit by themselves after `Finished`; give them a moment.
-        let bad = await_exits(&mut children, &mut exit_rx, Duration::from_secs(10), |_| {
-            true
-        })
-        .await;
-        if let Some(role) = bad.first() {
-            let msg = format!("participant `{}` exited badly after finishing", role.name());
-            end = Some(End::Failed(Some(*role), msg));
-        }
-        if end.is_none() {
-            end = Some(End::Completed(outcome));
-        }
-    }
-
     // A participant that reported failure is about to exit by itself; a moment's
     // grace lets it finish writing its stderr, which the message quotes.
     if let Some(End::Failed(Some(role), _)) = &end {
-        let role = *role;
-        await_exits(
-            &mut children,
-            &mut exit_rx,
-            Duration::from_millis(500),
-            |c| c.role == role,
-        )
-        .await;
+        let role = role.clone();
+        let grace = Duration::from_millis(500);
+        await_exits(&mut children, &mut exit_rx, grace, |c| c.role == role).await;
     }
     // Stop whatever still runs, and reap everything.
-    abort.store(true, Ordering::SeqCst);
+    flags.abort.store(true, Ordering::SeqCst);
     for c in &children {
         c.kill();
     }
@@ -329,8 +205,226 @@ async fn supervise_run(
         c.drain().await;
     }
     let _ = tokio::task::spawn_blocking(move || thread.join()).await;
-    let estimate = estimate.lock().ok().and_then(|e| *e);
+    let estimate = flags.estimate.lock().ok().and_then(|e| *e);
     (end.unwrap_or(End::Interrupted), children, estimate)
+}
+
+/// Start the thread that speaks to the participants; it says on the first
+/// channel when its ports are open, and on the second how the run ended.
+fn coupling_thread(
+    checked: &super::Checked,
+    run_id: &str,
+    run_dir: &Path,
+    flags: &Flags,
+) -> (
+    std::thread::JoinHandle<()>,
+    oneshot::Receiver<Result<(), String>>,
+    Done,
+) {
+    let (ready_tx, ready_rx) = oneshot::channel::<Result<(), String>>();
+    let (done_tx, done_rx) = oneshot::channel();
+    let scenario = checked.scenario.clone();
+    let names: Vec<String> = checked.programs.iter().map(|(n, _)| n.clone()).collect();
+    let setup = Setup {
+        run_id: run_id.to_string(),
+        run_dir: run_dir.to_path_buf(),
+        scenario_path: checked.path.clone(),
+        scenario: scenario.to_toml(),
+        participants: names.clone(),
+        timing: super::timing(&scenario),
+    };
+    let monitors_path = run_dir.join("monitors.csv");
+    let (run_id, flags) = (run_id.to_string(), flags.clone());
+    let thread = std::thread::spawn(move || {
+        let mut sup = match Supervisor::open(&run_id, &names, flags.abort.clone()) {
+            Ok(s) => s,
+            Err(e) => {
+                let _ = ready_tx.send(Err(e.to_string()));
+                return;
+            }
+        };
+        let _ = ready_tx.send(Ok(()));
+        let run = &scenario.run;
+        let mut progress = Progress::new(&run.name, run.start_time, run.end_time);
+        let shared = Shared {
+            finished: &flags.finished,
+            estimate: &flags.estimate,
+        };
+        let result = coupling::run(
+            &mut sup,
+            &scenario,
+            |_| setup.clone(),
+            &monitors_path,
+            &mut progress,
+            shared,
+        );
+        match &result {
+            Ok(o) => progress.finish(run.end_time, o.windows),
+            Err(_) => progress.abandon(),
+        }
+        let _ = done_tx.send(result);
+    });
+    (thread, ready_rx, done_rx)
+}
+
+/// Start every participant's program; the end of the run if one cannot start.
+fn spawn_all(
+    checked: &super::Checked,
+    run_id: &str,
+    run_dir: &Path,
+    exit_tx: &mpsc::UnboundedSender<Exit>,
+    children: &mut Vec<Child>,
+) -> Result<(), End> {
+    for (name, program) in &checked.programs {
+        let Program::Found(path) = program else {
+            continue;
+        };
+        let spec = checked
+            .scenario
+            .participants
+            .get(name)
+            .expect("a listed participant");
+        let mut env = vec![
+            (names::ENV_RUN_ID, run_id.to_string()),
+            (names::ENV_PARTICIPANT, name.clone()),
+        ];
+        let (path, args) = match (&checked.mpirun, spec.ranks()) {
+            (Some(mpirun), ranks) if ranks > 1 => {
+                env.extend(participant::mpirun::env(ranks));
+                (mpirun, participant::mpirun::args(ranks, path, &spec.args))
+            }
+            _ => (path, spec.args.clone()),
+        };
+        match supervise::spawn(name, path, &args, &env, run_dir, exit_tx.clone()) {
+            Ok(c) => children.push(c),
+            Err(e) => {
+                let msg = format!(
+                    "cannot start `{}` for participant `{name}`: {e}",
+                    path.display()
+                );
+                return Err(End::Failed(Some(name.clone()), msg));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Ctrl-C, SIGTERM and a closed terminal.
+struct Signals {
+    int: Option<tokio::signal::unix::Signal>,
+    term: Option<tokio::signal::unix::Signal>,
+    hup: Option<tokio::signal::unix::Signal>,
+}
+
+impl Signals {
+    fn install() -> Signals {
+        use tokio::signal::unix::{signal, SignalKind};
+        Signals {
+            int: signal(SignalKind::interrupt()).ok(),
+            term: signal(SignalKind::terminate()).ok(),
+            hup: signal(SignalKind::hangup()).ok(),
+        }
+    }
+
+    async fn next(&mut self) {
+        tokio::select! {
+            _ = next_signal(&mut self.int) => {}
+            _ = next_signal(&mut self.term) => {}
+            _ = next_signal(&mut self.hup) => {}
+        }
+    }
+}
+
+/// Watch the children and the coupling thread until the run completes,
+/// fails or is interrupted.
+async fn watch(
+    children: &mut [Child],
+    exits: &mut mpsc::UnboundedReceiver<Exit>,
+    done: &mut Done,
+    flags: &Flags,
+    signals: &mut Signals,
+) -> Result<coupling::Outcome, End> {
+    loop {
+        tokio::select! {
+            Some(exit) = exits.recv() => {
+                record_exit(children, &exit);
+                let ok = matches!(&exit.status, Ok(s) if s.success());
+                if !ok || !finished(&flags.finished, &exit.role).await {
+                    return Err(early_exit(children, &exit, done).await);
+                }
+            }
+            result = &mut *done => return match result {
+                Ok(Ok(outcome)) => Ok(outcome),
+                Ok(Err(e)) => Err(failed(e)),
+                Err(_) => Err(End::Failed(None, "the coupling thread stopped unexpectedly".into())),
+            },
+            _ = signals.next() => return Err(End::Interrupted),
+        }
+    }
+}
+
+/// Whether participant `name` has sent its statistics; a participant that
+/// exits right after sending them may be seen to exit first, so this
+/// waits a moment for them.
+async fn finished(list: &Mutex<Vec<String>>, name: &str) -> bool {
+    let has = || list.lock().is_ok_and(|l| l.iter().any(|n| n == name));
+    for _ in 0..100 {
+        if has() {
+            return true;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    has()
+}
+
+/// How the coupling thread's error ends the run.
+fn failed(e: CouplingError) -> End {
+    match e {
+        CouplingError::Supervise(SuperviseError::Mismatch(why)) => End::Refused(why),
+        e => End::Failed(e.culprit(), e.to_string()),
+    }
+}
+
+/// A participant exited before the run ended. One that said why (it
+/// failed, or it waited in vain for another) exits right after saying so;
+/// that reason, on its way to the coupling thread, is the better message.
+async fn early_exit(children: &[Child], exit: &Exit, done: &mut Done) -> End {
+    let said = tokio::time::timeout(Duration::from_millis(500), &mut *done).await;
+    if let Ok(Ok(Err(e))) = said {
+        if e.culprit().is_some() {
+            return failed(e);
+        }
+    }
+    let how = match &exit.status {
+        Ok(s) => supervise::describe(s),
+        Err(e) => format!("could not be waited on: {e}"),
+    };
+    let program = children
+        .iter()
+        .find(|c| c.role == exit.role)
+        .map(|c| c.program.clone())
+        .unwrap_or_default();
+    let msg = format!(
+        "participant `{}` ({program}) {how} before the run ended",
+        exit.role
+    );
+    End::Failed(Some(exit.role.clone()), msg)
+}
+
+/// Every participant finished: they exit by themselves; give them a moment.
+async fn completed(
+    outcome: coupling::Outcome,
+    children: &mut [Child],
+    exits: &mut mpsc::UnboundedReceiver<Exit>,
+) -> End {
+    let bad = await_exits(children, exits, Duration::from_secs(10), |_| true).await;
+    match bad.first() {
+        Some(role) => {
+            let msg = format!("participant `{role}` exited badly after finishing");
+            End::Failed(Some(role.clone()), msg)
+        }
+        None => End::Completed(outcome),
+    }
 }
 
 /// Record exits until every child that `which` selects has exited, or `within`
@@ -340,7 +434,7 @@ async fn await_exits(
     exits: &mut mpsc::UnboundedReceiver<Exit>,
     within: Duration,
     which: impl Fn(&Child) -> bool,
-) -> Vec<Role> {
+) -> Vec<String> {
     let deadline = tokio::time::Instant::now() + within;
     let mut bad = Vec::new();
     while children.iter().any(|c| which(c) && c.exited.is_none()) {
@@ -348,7 +442,7 @@ async fn await_exits(
             Ok(Some(exit)) => {
                 record_exit(children, &exit);
                 if !matches!(&exit.status, Ok(s) if s.success()) {
-                    bad.push(exit.role);
+                    bad.push(exit.role.clone());
                 }
             }
             _ => break,
@@ -395,32 +489,13 @@ fn manifest(
     started: Instant,
 ) -> serde_json::Value {
     let s = &checked.scenario;
-    let stats = match end {
+    let outcome = match end {
         End::Completed(o) => Some(o),
         _ => None,
     };
-    let processes: Vec<_> = children
-        .iter()
-        .map(|c| {
-            let st = stats.and_then(|o| o.stats.get(&c.role));
-            json!({
-                "role": c.role.name(),
-                "program": c.program,
-                "pid": c.pid,
-                "exit": c.exited.map(|(s, _)| supervise::describe(&s)),
-                "wall_s": c.wall_s(),
-                "cpu_s": st.map(|s| s.cpu_s),
-                "exchange_s": st.map(|s| s.exchange_s),
-                "wait_s": st.map(|s| s.wait_s),
-                "commands": st.map(|s| s.commands),
-                "substeps": st.map(|s| s.substeps),
-            })
-        })
-        .collect();
-    let exchange_total =
-        stats.map(|o| o.stats.values().map(|s| s.exchange_s).sum::<f64>() + o.coupler_send_s);
     let (error, culprit) = match end {
-        End::Failed(r, reason) => (Some(reason.clone()), r.map(|r| r.name())),
+        End::Failed(r, reason) => (Some(reason.clone()), r.clone()),
+        End::Refused(reason) => (Some(reason.clone()), None),
         _ => (None, None),
     };
     json!({
@@ -437,29 +512,89 @@ fn manifest(
             "window_s": s.coupling.window,
             "structure_substeps": s.coupling.structure_substeps,
             "impulse_substeps": s.coupling.impulse_substeps,
-            "windows": s.windows(),
+            "windows": super::timing(s).windows(),
             "integrator": s.structure.as_ref().map(|st| st.integrator.name()),
             "structure_dt_s": s.coupling.structure_dt(),
         },
-        // From the ω_max the structure reported (seed 000 eq. 3.7): the largest
-        // stable step of the integrator and the sub-steps it needs.
-        "stability": estimate.map(|e| json!({
-            "omega_max": e.omega_max,
-            "interval": s.structure.as_ref().map(|st| stability::interval(st.scheme()).label()),
-            "interval_omega_h": s.structure.as_ref().and_then(|st| match stability::interval(st.scheme()) {
-                stability::Interval::Bounded(y) => Some(y),
-                _ => None,
-            }),
-            "stable_dt_s": e.stable_dt,
-            "n_s": e.n_s,
-            "n_s_seed": e.n_s_seed,
-        })),
+        "stability": estimate.map(|e| stability_json(s, &e)),
         "coupler": {
             "wall_s": started.elapsed().as_secs_f64(),
-            "cpu_s": crate::usage::cpu_seconds(),
-            "send_s": stats.map(|o| o.coupler_send_s),
+            "cpu_s": participant::cpu_seconds(),
+            "send_s": outcome.map(|o| o.coupler_send_s),
         },
-        "processes": processes,
-        "exchange_total_s": exchange_total,
+        "coupling": outcome.map(coupling_json),
+        "processes": processes_json(children, outcome),
+        "exchange_total_s": outcome.map(|o| {
+            o.stats.iter().map(|(_, s)| s.exchange_s).sum::<f64>() + o.coupler_send_s
+        }),
     })
+}
+
+/// From the ω_max the structure reported (dissertation eq. 3.7): the largest
+/// stable step of the integrator and the sub-steps it needs.
+fn stability_json(s: &scenario::Scenario, e: &Estimate) -> serde_json::Value {
+    let interval = s
+        .structure
+        .as_ref()
+        .map(|st| stability::interval(st.scheme()));
+    json!({
+        "omega_max": e.omega_max,
+        "interval": interval.map(|i| i.label()),
+        "interval_omega_h": interval.and_then(|i| match i {
+            stability::Interval::Bounded(y) => Some(y),
+            _ => None,
+        }),
+        "stable_dt_s": e.stable_dt,
+        "n_s": e.n_s,
+        "n_s_seed": e.n_s_seed,
+    })
+}
+
+/// Where the coupled run's wall time went: the participants' own work,
+/// and what the coupling cost them, summed over participants: the time
+/// inside the library's calls (waits excluded), and the time between a
+/// value's sending and its reader seeing it, for values a reader waited
+/// for. Waiting while the writer computes is the staggered schedule's,
+/// not the exchange's, and is left out.
+fn coupling_json(o: &coupling::Outcome) -> serde_json::Value {
+    let sum = |f: fn(&participant::supervisor::Stats) -> f64| -> f64 {
+        o.stats.iter().map(|(_, s)| f(s)).sum()
+    };
+    let exchange = sum(|s| s.exchange_s) + o.coupler_send_s;
+    let latency = sum(|s| s.latency_s);
+    json!({
+        "run_s": o.run_s,
+        "compute_s": sum(|s| s.compute_s),
+        "exchange_s": exchange,
+        "latency_s": latency,
+        "exchange_share": (exchange + latency) / o.run_s,
+    })
+}
+
+fn processes_json(children: &[Child], outcome: Option<&coupling::Outcome>) -> serde_json::Value {
+    let processes: Vec<_> = children
+        .iter()
+        .map(|c| {
+            let st = outcome
+                .and_then(|o| o.stats.iter().find(|(n, _)| *n == c.role))
+                .map(|(_, s)| s);
+            json!({
+                "role": c.role,
+                "program": c.program,
+                "pid": c.pid,
+                "exit": c.exited.map(|(s, _)| supervise::describe(&s)),
+                "wall_s": c.wall_s(),
+                "cpu_s": st.map(|s| s.cpu_s),
+                "run_s": st.map(|s| s.run_s),
+                "compute_s": st.map(|s| s.compute_s),
+                "exchange_s": st.map(|s| s.exchange_s),
+                "wait_s": st.map(|s| s.wait_s),
+                "latency_s": st.map(|s| s.latency_s),
+                "sleeps": st.map(|s| s.sleeps),
+                "commands": st.map(|s| s.commands),
+                "substeps": st.map(|s| s.substeps),
+            })
+        })
+        .collect();
+    serde_json::Value::Array(processes)
 }

@@ -12,13 +12,11 @@ use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader};
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
-use crate::protocol::Role;
-
 /// Lines of stderr kept to quote when a participant fails.
 const TAIL_LINES: usize = 12;
 
 pub struct Child {
-    pub role: Role,
+    pub role: String,
     pub program: String,
     pub pid: u32,
     pub started: Instant,
@@ -29,7 +27,7 @@ pub struct Child {
 
 /// A child's exit, sent by its waiting task.
 pub struct Exit {
-    pub role: Role,
+    pub role: String,
     pub status: std::io::Result<ExitStatus>,
     pub at: Instant,
 }
@@ -43,10 +41,10 @@ pub fn describe(status: &ExitStatus) -> String {
     }
 }
 
-/// Start `program` for `role`; its stdout and stderr go to `logs/<role>.log` in the
-/// run directory, and its exit is sent on `exits`.
+/// Start `program` for participant `role`; its stdout and stderr go to
+/// `logs/<role>.log` in the run directory, and its exit is sent on `exits`.
 pub fn spawn(
-    role: Role,
+    role: &str,
     program: &Path,
     args: &[String],
     env: &[(&str, String)],
@@ -63,12 +61,19 @@ pub fn spawn(
         .process_group(0)
         .kill_on_drop(true);
     // If the coupler itself dies (SIGKILL, a closed terminal), the participants
-    // must not run on: the kernel kills them with it.
-    // SAFETY: prctl is async-signal-safe and touches only the child being started.
+    // must not run on: the kernel kills them with it. A coupler that died
+    // between the fork and the prctl is no longer the parent by then, and
+    // the child gives up rather than run as an orphan.
+    let coupler = std::process::id();
+    // SAFETY: prctl, getppid and _exit are async-signal-safe and touch only
+    // the child being started.
     unsafe {
-        cmd.pre_exec(|| {
+        cmd.pre_exec(move || {
             if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
                 return Err(std::io::Error::last_os_error());
+            }
+            if libc::getppid() as u32 != coupler {
+                libc::_exit(1);
             }
             Ok(())
         });
@@ -80,7 +85,7 @@ pub fn spawn(
     let pid = child.id().unwrap_or(0);
     let logs = run_dir.join("logs");
     std::fs::create_dir_all(&logs)?;
-    let log_path = logs.join(format!("{}.log", role.name()));
+    let log_path = logs.join(format!("{role}.log"));
     let tail = Arc::new(Mutex::new(VecDeque::new()));
     let mut readers = Vec::new();
     if let Some(err) = child.stderr.take() {
@@ -93,16 +98,17 @@ pub fn spawn(
     if let Some(out) = child.stdout.take() {
         readers.push(tokio::spawn(pump(out, log_path, None)));
     }
+    let name = role.to_string();
     tokio::spawn(async move {
         let status = child.wait().await;
         let _ = exits.send(Exit {
-            role,
+            role: name,
             status,
             at: Instant::now(),
         });
     });
     Ok(Child {
-        role,
+        role: role.to_string(),
         program: program.display().to_string(),
         pid,
         started: Instant::now(),

@@ -1,9 +1,9 @@
 //! What the compressible tests share: the shipped scenes and a run to their end.
 
-use coupler::Scenario;
 use fluid_proc::compressible::Compressible;
 use fluid_proc::gas::Primitive;
 use fluid_proc::setup::gas_from;
+use scenario::Scenario;
 
 /// One quantity of a cell's gas.
 pub type Field = fn(&Primitive) -> f64;

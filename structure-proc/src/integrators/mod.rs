@@ -23,9 +23,9 @@ mod velocity_verlet;
 
 use crate::forces::assembly::GRAIN;
 pub use crate::system::System;
-pub use coupler::scenario::structure::{NewtonParams, Scheme};
 pub use newton::extent;
 use rayon::prelude::*;
+pub use scenario::structure::{NewtonParams, Scheme};
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StepError {

@@ -1,7 +1,7 @@
 //! Models shared by the structure tests.
 #![allow(dead_code)]
 
-pub use coupler::scenario::structure::{
+pub use scenario::structure::{
     Annulus, Damping, Elasticity, Fabric, Fibre, Integrator, Membrane, NewtonParams, Scheme,
     StructureSection,
 };

@@ -22,7 +22,6 @@ pub use fluid::{FluidSection, PorousLoad};
 pub use rigid::RigidSection;
 pub use structure::StructureSection;
 
-use crate::protocol::Role;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -97,6 +96,10 @@ fn default_timeout() -> f64 {
     60.0
 }
 
+/// The participants a scenario may list, each with a section of the same
+/// name that its program reads.
+pub const PARTICIPANTS: [&str; 3] = ["fluid", "structure", "rigid"];
+
 /// `[participants]`: the processes this scene starts. A role not listed is not
 /// started and exchanges nothing.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -133,27 +136,30 @@ impl ParticipantSpec {
 }
 
 impl Participants {
-    pub fn get(&self, role: Role) -> Option<&ParticipantSpec> {
-        match role {
-            Role::Fluid => self.fluid.as_ref(),
-            Role::Structure => self.structure.as_ref(),
-            Role::Rigid => self.rigid.as_ref(),
+    /// The participant called `name`, if the scenario lists it.
+    pub fn get(&self, name: &str) -> Option<&ParticipantSpec> {
+        match name {
+            "fluid" => self.fluid.as_ref(),
+            "structure" => self.structure.as_ref(),
+            "rigid" => self.rigid.as_ref(),
+            _ => None,
         }
     }
 
-    pub fn get_mut(&mut self, role: Role) -> Option<&mut ParticipantSpec> {
-        match role {
-            Role::Fluid => self.fluid.as_mut(),
-            Role::Structure => self.structure.as_mut(),
-            Role::Rigid => self.rigid.as_mut(),
+    pub fn get_mut(&mut self, name: &str) -> Option<&mut ParticipantSpec> {
+        match name {
+            "fluid" => self.fluid.as_mut(),
+            "structure" => self.structure.as_mut(),
+            "rigid" => self.rigid.as_mut(),
+            _ => None,
         }
     }
 
-    /// Listed roles, in schedule order (fluid, structure, rigid).
-    pub fn roles(&self) -> Vec<Role> {
-        Role::ALL
+    /// The listed participants' names, in the order of [`PARTICIPANTS`].
+    pub fn names(&self) -> Vec<&'static str> {
+        PARTICIPANTS
             .into_iter()
-            .filter(|r| self.get(*r).is_some())
+            .filter(|n| self.get(n).is_some())
             .collect()
     }
 }
@@ -266,28 +272,28 @@ impl Scenario {
             );
         }
         c.positive(&["coupling", "timeout"], k.timeout, "s");
-        if self.participants.roles().is_empty() {
+        if self.participants.names().is_empty() {
             c.problem(
                 &["participants"],
                 "lists no participant: name at least one of fluid, structure, rigid".into(),
             );
         }
-        for role in Role::ALL {
+        for role in PARTICIPANTS {
             if let Some(spec) = self.participants.get(role) {
                 if spec.program.trim().is_empty() {
                     c.problem(
-                        &["participants", role.name(), "program"],
+                        &["participants", role, "program"],
                         "program is empty".into(),
                     );
                 }
                 if let Some(ranks) = spec.ranks {
-                    let key = ["participants", role.name(), "ranks"];
-                    if role != Role::Fluid {
+                    let key = ["participants", role, "ranks"];
+                    if role != "fluid" {
                         c.problem(
                             &key,
                             format!(
                                 "ranks is for the fluid participant only; `{}` runs as one process",
-                                role.name()
+                                role
                             ),
                         );
                     }
@@ -296,26 +302,26 @@ impl Scenario {
                 }
             }
             let has_section = match role {
-                Role::Fluid => self.fluid.is_some(),
-                Role::Structure => self.structure.is_some(),
-                Role::Rigid => self.rigid.is_some(),
+                "fluid" => self.fluid.is_some(),
+                "structure" => self.structure.is_some(),
+                _ => self.rigid.is_some(),
             };
             let listed = self.participants.get(role).is_some();
             if listed && !has_section {
                 c.problem(
-                    &["participants", role.name()],
+                    &["participants", role],
                     format!(
                         "participant `{0}` is listed but the scenario has no [{0}] section",
-                        role.name()
+                        role
                     ),
                 );
             }
             if has_section && !listed {
                 c.problem(
-                    &[role.name()],
+                    &[role],
                     format!(
                         "[{0}] section given but no participant `{0}` is listed in [participants]",
-                        role.name()
+                        role
                     ),
                 );
             }

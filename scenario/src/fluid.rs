@@ -313,6 +313,18 @@ pub struct PorousLoad {
 }
 
 impl PorousLoad {
+    /// The law's parameters, as the `porous` crate takes them.
+    pub fn params(&self) -> porous::Params {
+        porous::Params {
+            free_stream: self.free_stream,
+            density: self.density,
+            viscosity: self.viscosity,
+            porosity: self.porosity,
+            diameter: self.diameter,
+            thickness: self.thickness,
+        }
+    }
+
     /// Checks the keys relative to the table `c` is in.
     pub fn check(&self, c: &mut Checker) {
         c.finite3(&["free_stream"], self.free_stream);

@@ -1,4 +1,4 @@
-//! How a program is started on MPI ranks under `mpirun`: by the launcher
+//! How a program is started on MPI ranks under `mpirun`: by the coupler
 //! for `ranks = N`, and by fluid-proc's benchmark for its ranks column.
 
 /// `mpirun`'s arguments to start `program args` on `ranks` ranks. More

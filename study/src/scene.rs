@@ -7,8 +7,8 @@
 //! process's, from the run's manifest.
 
 use crate::accuracy::{adaptive_tolerance, Run, Status};
-use coupler::scenario::structure::Integrator;
-use coupler::Scenario;
+use scenario::structure::Integrator;
+use scenario::Scenario;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

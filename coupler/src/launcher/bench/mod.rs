@@ -1,0 +1,141 @@
+//! `coupler bench exchange`: what exchanging a field costs, and what share
+//! of a coupled scene's wall time the coupling takes.
+//!
+//! The round trips run between two processes, each a `coupler bench-peer`,
+//! all measured in the same run so that the ways of moving data compare on
+//! the same machine state:
+//!
+//! - the participant library, the values left untouched (only the first
+//!   and last are stamped and checked): the exchange itself;
+//! - the participant library, every value written into the loan by the
+//!   sender and read in place by the receiver: what a solver pays;
+//! - iceoryx2 with a copy at each end (the sender copies its values into
+//!   the loan, the receiver copies them out before reading them);
+//! - a Unix socket carrying the values encoded with bincode.
+//!
+//! The scene rows run `coupler run` and read the manifest's
+//! `coupling.exchange_share`: the share of the coupled run's wall time in
+//! which no participant computes.
+
+mod library;
+mod pingpong;
+mod raw;
+mod socket;
+
+pub use library::peer as library_peer;
+pub use raw::peer as copy_peer;
+pub use socket::peer as socket_peer;
+
+use std::path::{Path, PathBuf};
+
+/// Values per field in the round-trip table.
+pub const SIZES: [usize; 4] = [1_000, 10_000, 100_000, 1_000_000];
+
+/// Median and 99th percentile of one row's round trips [µs].
+#[derive(Debug, Clone, Copy)]
+pub struct Times {
+    pub median_us: f64,
+    pub p99_us: f64,
+}
+
+/// `coupler bench exchange`: prints the tables; returns the exit code.
+pub fn exchange(rounds: usize, scenes: &[PathBuf]) -> i32 {
+    let exe = match std::env::current_exe() {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("error: cannot find the coupler executable: {e}");
+            return 1;
+        }
+    };
+    println!("field round trip between two processes, {rounds} rounds per size (after a tenth as many to warm up)");
+    let measured = library::columns(&exe, rounds).and_then(|[ends, every]| {
+        Ok([
+            ("library, untouched", ends),
+            ("library, written+read", every),
+            ("iceoryx2 + 2 copies", raw::rows(&exe, rounds)?),
+            ("socket + bincode", socket::rows(&exe, rounds)?),
+        ])
+    });
+    match measured {
+        Ok(table) => print_table(&table),
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 1;
+        }
+    }
+    if !scenes.is_empty() {
+        println!();
+        println!("exchange share of a coupled run: time inside the library's calls and between a value's sending and its");
+        println!("waiting reader seeing it, summed over participants, against the coupled run's wall time (from start to finish)");
+        println!(
+            "{:<34} {:>8} {:>8} {:>10} {:>10} {:>10} {:>7}",
+            "scene", "wall s", "run s", "compute s", "exchange s", "latency s", "share"
+        );
+    }
+    for scene in scenes {
+        match scene_share(&exe, scene) {
+            Ok(line) => println!("{line}"),
+            Err(e) => {
+                eprintln!("error: {}: {e}", scene.display());
+                return 1;
+            }
+        }
+    }
+    0
+}
+
+fn print_table(table: &[(&str, Vec<Times>)]) {
+    let mut head = format!("{:>10}", "values");
+    let mut sub = format!("{:>10}", "");
+    for (name, _) in table {
+        head.push_str(&format!(" {name:>23}"));
+        sub.push_str(&format!(" {:>11} {:>11}", "median µs", "p99 µs"));
+    }
+    println!("{head}\n{sub}");
+    for (i, n) in SIZES.iter().enumerate() {
+        let mut line = format!("{n:>10}");
+        for (_, rows) in table {
+            line.push_str(&format!(
+                " {:>11.1} {:>11.1}",
+                rows[i].median_us, rows[i].p99_us
+            ));
+        }
+        println!("{line}");
+    }
+}
+
+/// Run `scene` through `coupler run` and read where its wall time went.
+fn scene_share(exe: &Path, scene: &Path) -> Result<String, String> {
+    let dir = std::env::temp_dir().join(format!(
+        "canopy-bench-{}",
+        participant::supervisor::new_run_id()
+    ));
+    let status = std::process::Command::new(exe)
+        .arg("run")
+        .arg(scene)
+        .arg("--out")
+        .arg(&dir)
+        .stderr(std::process::Stdio::null())
+        .status()
+        .map_err(|e| format!("cannot run it: {e}"))?;
+    let manifest = std::fs::read_to_string(dir.join("manifest.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
+    let _ = std::fs::remove_dir_all(&dir);
+    let m = match (status.success(), manifest) {
+        (true, Some(m)) => m,
+        _ => return Err("the run failed".into()),
+    };
+    let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
+    let c = &m["coupling"];
+    Ok(format!(
+        "{:<34} {:>8.3} {:>8.3} {:>10.3} {:>10.3} {:>10.3} {:>6.2}%",
+        scene.display(),
+        f(&m["coupler"]["wall_s"]),
+        f(&c["run_s"]),
+        f(&c["compute_s"]),
+        f(&c["exchange_s"]),
+        f(&c["latency_s"]),
+        100.0 * f(&c["exchange_share"])
+    ))
+}

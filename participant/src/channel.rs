@@ -1,0 +1,368 @@
+//! The iceoryx2 plumbing shared by the coupler's end and the participants':
+//! message ports for bincode control messages, `[f64]` ports for fields,
+//! wake-up events, the blackboard flag on which a waiting participant says
+//! it sleeps, and a wait that spins briefly and then blocks.
+//!
+//! Nothing is lost on these channels: a full buffer holds its writer back
+//! rather than dropping a value, and every field value carries its number
+//! in the sequence of values written, which its reader checks.
+
+use iceoryx2::port::listener::{Listener, ListenerWaitError};
+use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::reader::EntryHandle;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::port::writer::EntryHandleMut;
+use iceoryx2::port::{BackpressureAction, BackpressureInfo};
+use iceoryx2::prelude::*;
+use std::time::{Duration, Instant};
+
+pub type Ipc = ipc::Service;
+pub type BytesOut = Publisher<Ipc, [u8], ()>;
+pub type BytesIn = Subscriber<Ipc, [u8], ()>;
+/// A field value's header: its number in the sequence of values written,
+/// and when it was sent ([`monotonic_ns`]).
+pub type Stamp = [u64; 2];
+/// A field's publisher.
+pub type FieldOut = Publisher<Ipc, [f64], Stamp>;
+pub type FieldIn = Subscriber<Ipc, [f64], Stamp>;
+pub type FieldSample = iceoryx2::sample::Sample<Ipc, [f64], Stamp>;
+/// A participant's own "asleep" flag, and another's, read.
+pub type FlagOut = EntryHandleMut<Ipc, u64, u64>;
+pub type FlagIn = EntryHandle<Ipc, u64, u64>;
+pub type Board = iceoryx2::service::port_factory::blackboard::PortFactory<Ipc, u64>;
+
+/// How long a waiting side polls before it blocks on its event, when it
+/// has no reason to expect its data soon.
+pub const SPIN: Duration = Duration::from_micros(60);
+/// Longest single block on an event before the abort flag, the deadline
+/// and the data are checked again (a lost wake-up costs at most this).
+pub const BLOCK_SLICE: Duration = Duration::from_millis(10);
+/// Unread values a field's reader may hold back before its writer waits.
+/// Under the staggered schedule a reader takes each value before its writer
+/// can make the next, but for the last ones, which nobody reads.
+const FIELD_BUFFER: usize = 2;
+/// Unread control messages before their sender waits.
+const MESSAGE_BUFFER: usize = 16;
+/// The key of the one entry on a participant's blackboard.
+pub const ASLEEP_KEY: u64 = 0;
+
+#[derive(Debug, thiserror::Error)]
+pub enum ChannelError {
+    #[error("iceoryx2: {0}")]
+    Ipc(String),
+    #[error("no answer within {0:.1} s")]
+    Timeout(f64),
+    #[error("aborted")]
+    Aborted,
+    #[error("malformed control message: {0}")]
+    Decode(String),
+}
+
+pub fn ipc_err<E: std::fmt::Debug>(what: &'static str) -> impl Fn(E) -> ChannelError {
+    move |e| ChannelError::Ipc(format!("{what}: {e:?}"))
+}
+
+fn service_name(name: &str) -> Result<ServiceName, ChannelError> {
+    name.try_into().map_err(ipc_err("service name"))
+}
+
+/// iceoryx2 warns on stderr that it runs with its built-in default config;
+/// that is intended here, and the warning would pollute every log.
+fn quiet() {
+    set_log_level(LogLevel::Error);
+}
+
+/// A node for this process. Signal handling is left to the process: a
+/// participant killed by a signal must die, and the coupler handles Ctrl-C itself.
+pub fn node(name: &str) -> Result<Node<Ipc>, ChannelError> {
+    quiet();
+    let node_name: NodeName = name.try_into().map_err(ipc_err("node name"))?;
+    NodeBuilder::new()
+        .name(&node_name)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<Ipc>()
+        .map_err(ipc_err("create node"))
+}
+
+// Both ends must open a service with identical settings, so one function each.
+
+fn bytes_service(
+    node: &Node<Ipc>,
+    name: &str,
+) -> Result<
+    iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, [u8], ()>,
+    ChannelError,
+> {
+    node.service_builder(&service_name(name)?)
+        .publish_subscribe::<[u8]>()
+        .max_publishers(1)
+        .max_subscribers(1)
+        .subscriber_max_buffer_size(MESSAGE_BUFFER)
+        .subscriber_max_borrowed_samples(2)
+        .enable_safe_overflow(false)
+        .history_size(0)
+        .open_or_create()
+        .map_err(ipc_err("open message service"))
+}
+
+fn field_service(
+    node: &Node<Ipc>,
+    name: &str,
+    readers: usize,
+) -> Result<
+    iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, [f64], Stamp>,
+    ChannelError,
+> {
+    node.service_builder(&service_name(name)?)
+        .publish_subscribe::<[f64]>()
+        .user_header::<Stamp>()
+        .max_publishers(1)
+        .max_subscribers(readers.max(1))
+        .subscriber_max_buffer_size(FIELD_BUFFER)
+        // The value being read and the one before, while a reader swaps them.
+        .subscriber_max_borrowed_samples(2)
+        .enable_safe_overflow(false)
+        .history_size(0)
+        .open_or_create()
+        .map_err(ipc_err("open field service"))
+}
+
+pub fn bytes_out(node: &Node<Ipc>, name: &str) -> Result<BytesOut, ChannelError> {
+    bytes_service(node, name)?
+        .publisher_builder()
+        // A batch of monitor rows fits without growing the segment.
+        .initial_max_slice_len(1 << 16)
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .backpressure_strategy(BackpressureStrategy::RetryUntilDelivered)
+        .max_loaned_samples(1)
+        .create()
+        .map_err(ipc_err("create message publisher"))
+}
+
+pub fn bytes_in(node: &Node<Ipc>, name: &str) -> Result<BytesIn, ChannelError> {
+    bytes_service(node, name)?
+        .subscriber_builder()
+        .create()
+        .map_err(ipc_err("create message subscriber"))
+}
+
+/// A field publisher for `readers` readers; `len_hint` values fit without
+/// reallocation, larger loans grow the segment. A reader whose buffer is
+/// full holds the writer back for at most `patience`; then the send fails
+/// (a reader that does not read every value it declared).
+pub fn field_out(
+    node: &Node<Ipc>,
+    name: &str,
+    readers: usize,
+    len_hint: usize,
+    patience: Duration,
+) -> Result<FieldOut, ChannelError> {
+    field_service(node, name, readers)?
+        .publisher_builder()
+        .initial_max_slice_len(len_hint.max(1))
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .backpressure_strategy(BackpressureStrategy::RetryUntilDelivered)
+        .set_backpressure_handler(move |info: &BackpressureInfo| {
+            if info.elapsed_time < patience {
+                std::thread::yield_now();
+                BackpressureAction::Retry
+            } else {
+                BackpressureAction::DiscardDataAndFail
+            }
+        })
+        .max_loaned_samples(1)
+        .create()
+        .map_err(ipc_err("create field publisher"))
+}
+
+pub fn field_in(node: &Node<Ipc>, name: &str, readers: usize) -> Result<FieldIn, ChannelError> {
+    field_service(node, name, readers)?
+        .subscriber_builder()
+        .create()
+        .map_err(ipc_err("create field subscriber"))
+}
+
+fn event(
+    node: &Node<Ipc>,
+    name: &str,
+) -> Result<iceoryx2::service::port_factory::event::PortFactory<Ipc>, ChannelError> {
+    node.service_builder(&service_name(name)?)
+        .event()
+        .open_or_create()
+        .map_err(ipc_err("open event service"))
+}
+
+pub fn notifier(node: &Node<Ipc>, name: &str) -> Result<Notifier<Ipc>, ChannelError> {
+    event(node, name)?
+        .notifier_builder()
+        .create()
+        .map_err(ipc_err("create notifier"))
+}
+
+pub fn listener(node: &Node<Ipc>, name: &str) -> Result<Listener<Ipc>, ChannelError> {
+    event(node, name)?
+        .listener_builder()
+        .create()
+        .map_err(ipc_err("create listener"))
+}
+
+/// A participant's own blackboard with its "asleep" flag (0: awake).
+pub fn own_flag(node: &Node<Ipc>, name: &str) -> Result<(Board, FlagOut), ChannelError> {
+    let board = node
+        .service_builder(&service_name(name)?)
+        .blackboard_creator::<u64>()
+        .add::<u64>(ASLEEP_KEY, 0)
+        .create()
+        .map_err(ipc_err("create blackboard"))?;
+    let writer = board
+        .writer_builder()
+        .create()
+        .map_err(ipc_err("create blackboard writer"))?;
+    let flag = writer
+        .entry::<u64>(&ASLEEP_KEY)
+        .map_err(ipc_err("blackboard entry"))?;
+    Ok((board, flag))
+}
+
+/// Another participant's "asleep" flag, to read.
+pub fn peer_flag(node: &Node<Ipc>, name: &str) -> Result<(Board, FlagIn), ChannelError> {
+    let board = node
+        .service_builder(&service_name(name)?)
+        .blackboard_opener::<u64>()
+        .open()
+        .map_err(ipc_err("open blackboard"))?;
+    let reader = board
+        .reader_builder()
+        .create()
+        .map_err(ipc_err("create blackboard reader"))?;
+    let flag = reader
+        .entry::<u64>(&ASLEEP_KEY)
+        .map_err(ipc_err("blackboard entry"))?;
+    Ok((board, flag))
+}
+
+/// The system-wide monotonic clock in nanoseconds: comparable between the
+/// processes of one machine, so a reader can tell how long after its
+/// sending a value arrived.
+pub fn monotonic_ns() -> u64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes into the struct we pass.
+    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut t) };
+    t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64
+}
+
+/// Encode and publish one control message, then wake the reader.
+pub fn send_message<T: serde::Serialize>(
+    out: &BytesOut,
+    wake: &Notifier<Ipc>,
+    msg: &T,
+) -> Result<(), ChannelError> {
+    post_message(out, msg)?;
+    wake.notify().map_err(ipc_err("notify"))?;
+    Ok(())
+}
+
+/// Encode and publish one control message for a reader that looks by
+/// itself: no wake-up, whose system call costs tens of µs on a virtual
+/// machine.
+pub fn post_message<T: serde::Serialize>(out: &BytesOut, msg: &T) -> Result<(), ChannelError> {
+    let bytes = crate::wire::encode(msg);
+    let sample = out
+        .loan_slice_uninit(bytes.len())
+        .map_err(ipc_err("loan message"))?;
+    sample
+        .write_from_slice(&bytes)
+        .send()
+        .map_err(ipc_err("send message"))?;
+    Ok(())
+}
+
+/// Take one control message if one is waiting.
+pub fn try_receive_message<T: for<'de> serde::Deserialize<'de>>(
+    inp: &BytesIn,
+) -> Result<Option<T>, ChannelError> {
+    match inp.receive().map_err(ipc_err("receive message"))? {
+        None => Ok(None),
+        Some(sample) => crate::wire::decode(sample.payload())
+            .map(Some)
+            .map_err(|e| ChannelError::Decode(e.to_string())),
+    }
+}
+
+/// Poll `poll` until it yields, spinning for [`SPIN`] and then blocking on
+/// `listener`. Gives up at `timeout` or when `abort()` turns true.
+pub fn wait_until<T>(
+    listener: &Listener<Ipc>,
+    timeout: Option<Duration>,
+    abort: &dyn Fn() -> bool,
+    mut poll: impl FnMut() -> Result<Option<T>, ChannelError>,
+) -> Result<T, ChannelError> {
+    let start = Instant::now();
+    loop {
+        if let Some(v) = poll()? {
+            return Ok(v);
+        }
+        let waited = start.elapsed();
+        if waited < SPIN {
+            std::thread::yield_now();
+            continue;
+        }
+        if abort() {
+            return Err(ChannelError::Aborted);
+        }
+        let slice = match timeout {
+            Some(t) if waited >= t => return Err(ChannelError::Timeout(t.as_secs_f64())),
+            Some(t) => (t - waited).min(BLOCK_SLICE),
+            None => BLOCK_SLICE,
+        };
+        block(listener, slice)?;
+    }
+}
+
+/// Sleep on `listener` for at most `slice`. A notification that arrived
+/// before is kept by the event, so this returns at once then.
+pub fn block(listener: &Listener<Ipc>, slice: Duration) -> Result<(), ChannelError> {
+    match listener.timed_wait(|_| {}, slice) {
+        // A signal (SIGCHLD, SIGINT handled elsewhere) only cuts the wait short.
+        Ok(_) | Err(ListenerWaitError::InterruptSignal) => Ok(()),
+        Err(e) => Err(ipc_err("wait on event")(e)),
+    }
+}
+
+/// Remove what dead canopy processes left behind (shared memory, service entries).
+/// Returns how many dead nodes were cleaned.
+pub fn cleanup_dead_nodes() -> usize {
+    quiet();
+    let mut cleaned = 0;
+    let _ = Node::<Ipc>::list(Config::global_config(), |state| {
+        if let NodeState::Dead(view) = state {
+            if view
+                .blocking_remove_stale_resources(Duration::from_millis(500))
+                .is_ok()
+            {
+                cleaned += 1;
+            }
+        }
+        CallbackProgression::Continue
+    });
+    cleaned
+}
+
+/// Names of the services that exist for one run (for checks that nothing was left behind).
+pub fn services_of_run(run_id: &str) -> Vec<String> {
+    quiet();
+    let prefix = format!("{}/{run_id}/", crate::names::PREFIX);
+    let mut found = Vec::new();
+    let _ = Ipc::list(Config::global_config(), |details| {
+        let name = details.static_details.name().as_str().to_string();
+        if name.starts_with(&prefix) {
+            found.push(name);
+        }
+        CallbackProgression::Continue
+    });
+    found
+}

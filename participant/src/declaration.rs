@@ -1,0 +1,162 @@
+//! What a participant says it exchanges, when it joins a run: the fields it
+//! writes (name, values per item, item count) and reads, the monitors it
+//! reports, and how often it steps. Fields and participants are names:
+//! the coupler matches each read to the one participant that writes a
+//! field of that name, and refuses a required read that nobody writes.
+//!
+//! ```
+//! use participant::{Cadence, Declaration};
+//! let nodes = 4;
+//! let d = Declaration::new(Cadence::PerWindow { substeps: 1 })
+//!     .writes("canopy.positions", 3, nodes)
+//!     .reads("canopy.pressure")
+//!     .reads_if_written("body.states")
+//!     .monitors(["kinetic_energy", "centre_deflection"]);
+//! assert_eq!(d.monitor_names().len(), 2);
+//! ```
+
+use crate::timing::Cadence;
+use serde::{Deserialize, Serialize};
+
+/// A field a participant publishes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Write {
+    pub name: String,
+    /// Values per item (3 for a position, 13 for a rigid body's state).
+    pub per_item: u32,
+    /// Items per value written; None when it is known only later (a
+    /// pressure per triangle of a mesh that another participant sends).
+    pub items: Option<u64>,
+}
+
+/// A field a participant takes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Read {
+    pub name: String,
+    /// A required read with no writer stops the run before it starts; an
+    /// optional one is simply not exchanged.
+    pub required: bool,
+}
+
+/// Everything a participant exchanges. Built with the methods below, read
+/// as a sentence; handed to [`crate::Joining::declare`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Declaration {
+    pub cadence: Cadence,
+    pub writes: Vec<Write>,
+    pub reads: Vec<Read>,
+    pub monitors: Vec<String>,
+    /// Optional commands the participant supports (none yet; window
+    /// checkpoints come with implicit coupling).
+    pub supports: Vec<String>,
+}
+
+impl Declaration {
+    /// A participant that steps with `cadence` and exchanges nothing yet.
+    pub fn new(cadence: Cadence) -> Declaration {
+        Declaration {
+            cadence,
+            writes: Vec::new(),
+            reads: Vec::new(),
+            monitors: Vec::new(),
+            supports: Vec::new(),
+        }
+    }
+
+    /// Writes `name`: `items` items of `per_item` values each time.
+    pub fn writes(mut self, name: &str, per_item: u32, items: usize) -> Self {
+        self.writes.push(Write {
+            name: name.to_string(),
+            per_item,
+            items: Some(items as u64),
+        });
+        self
+    }
+
+    /// Writes `name`, items of `per_item` values, as many as each write needs.
+    pub fn writes_items_of(mut self, name: &str, per_item: u32) -> Self {
+        self.writes.push(Write {
+            name: name.to_string(),
+            per_item,
+            items: None,
+        });
+        self
+    }
+
+    /// Reads `name`, which some participant of the run must write.
+    pub fn reads(mut self, name: &str) -> Self {
+        self.reads.push(Read {
+            name: name.to_string(),
+            required: true,
+        });
+        self
+    }
+
+    /// Reads `name` when some participant writes it.
+    pub fn reads_if_written(mut self, name: &str) -> Self {
+        self.reads.push(Read {
+            name: name.to_string(),
+            required: false,
+        });
+        self
+    }
+
+    /// Reports these monitors (at the start and at every window end); they
+    /// become the columns `<participant>.<name>` of `monitors.csv`.
+    pub fn monitors<S: Into<String>>(mut self, names: impl IntoIterator<Item = S>) -> Self {
+        self.monitors.extend(names.into_iter().map(Into::into));
+        self
+    }
+
+    pub fn monitor_names(&self) -> &[String] {
+        &self.monitors
+    }
+
+    /// The first name declared twice (a field written twice, read twice,
+    /// or a monitor named twice), or one that cannot name a service.
+    pub fn problem(&self) -> Option<String> {
+        let mut seen = std::collections::HashSet::new();
+        for w in &self.writes {
+            if !crate::names::is_plain(&w.name) {
+                return Some(format!(
+                    "field name `{}` is not plain: letters, digits, `_ - .`",
+                    w.name
+                ));
+            }
+            if w.per_item == 0 {
+                return Some(format!(
+                    "field `{}` is declared with 0 values per item",
+                    w.name
+                ));
+            }
+            if !seen.insert(("w", w.name.as_str())) {
+                return Some(format!("field `{}` is declared as written twice", w.name));
+            }
+        }
+        for r in &self.reads {
+            if !crate::names::is_plain(&r.name) {
+                return Some(format!(
+                    "field name `{}` is not plain: letters, digits, `_ - .`",
+                    r.name
+                ));
+            }
+            if !seen.insert(("r", r.name.as_str())) {
+                return Some(format!("field `{}` is declared as read twice", r.name));
+            }
+            if seen.contains(&("w", r.name.as_str())) {
+                return Some(format!(
+                    "field `{}` is declared as both written and read",
+                    r.name
+                ));
+            }
+        }
+        for m in &self.monitors {
+            if m.is_empty() || m.contains(',') || !seen.insert(("m", m.as_str())) {
+                return Some(format!(
+                    "monitor `{m}` is empty, holds a comma or is declared twice"
+                ));
+            }
+        }
+        None
+    }
+}

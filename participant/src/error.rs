@@ -1,0 +1,55 @@
+//! One error type per stage: joining a run, and exchanging once it runs.
+
+pub use crate::channel::ChannelError;
+
+/// Why [`crate::connect`] or [`crate::Joining::declare`] failed.
+#[derive(Debug, thiserror::Error)]
+pub enum JoinError {
+    #[error("not launched by the coupler: environment variable {0} is not set")]
+    NotLaunched(&'static str),
+    #[error("{0}")]
+    Channel(#[from] ChannelError),
+    #[error("expected {expected} from the coupler, it sent {got}")]
+    Protocol { expected: &'static str, got: String },
+    #[error("declaration: {0}")]
+    Declaration(String),
+}
+
+/// Why a call of a running [`crate::Participant`] failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ExchangeError {
+    #[error("{0}")]
+    Channel(#[from] ChannelError),
+    #[error("field `{0}` was not declared")]
+    Undeclared(String),
+    #[error("field `{0}` is not exchanged in this run: no participant writes it")]
+    NotConnected(String),
+    #[error("field `{field}` is declared as {declared}, but {written} values were written")]
+    Length {
+        field: String,
+        declared: String,
+        written: usize,
+    },
+    #[error("no value of field `{field}` came from `{writer}` within {seconds:.1} s")]
+    Stalled {
+        field: String,
+        writer: String,
+        seconds: f64,
+    },
+    #[error("field `{field}`: value {got} arrived where value {expected} was due")]
+    OutOfOrder {
+        field: String,
+        expected: u64,
+        got: u64,
+    },
+    #[error(
+        "field `{field}`: its readers ({}) left earlier values unread until the \
+         timeout; a participant must read every value of a field it declares it reads",
+        readers.join(", ")
+    )]
+    Unread { field: String, readers: Vec<String> },
+    #[error("monitor `{0}` was not declared")]
+    UndeclaredMonitor(String),
+    #[error("{0}")]
+    Misuse(&'static str),
+}

@@ -1,0 +1,381 @@
+//! A running participant: it takes its commands from the run's schedule,
+//! reads and writes fields in shared memory, and reports monitors.
+//!
+//! ```no_run
+//! use participant::{Cadence, Command, Declaration, Monitor};
+//! let joining = participant::connect()?;
+//! let n = 3;
+//! let declaration = Declaration::new(Cadence::PerWindow { substeps: 1 })
+//!     .writes("canopy.positions", 3, n)
+//!     .reads_if_written("canopy.pressure")
+//!     .monitors(["kinetic_energy"]);
+//! let mut p = joining.declare(declaration)?;
+//! loop {
+//!     match p.next_command()? {
+//!         Command::Initialize => {
+//!             p.write_field("canopy.positions", 3 * n, |out| out.fill(0.0))?;
+//!             p.done(vec![Monitor::new("kinetic_energy", 0.0)])?;
+//!         }
+//!         Command::Advance(step) => {
+//!             // read inputs in place, step the physics, write outputs in place
+//!             p.done(vec![Monitor::new("kinetic_energy", 0.0)])?;
+//!         }
+//!         Command::Output { .. } => p.done(vec![])?,
+//!         Command::Stop => break,
+//!     }
+//! }
+//! p.finish(0)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Fields are zero-copy: [`Participant::write_field`] hands the solver the
+//! loaned shared-memory slice to compute into, and [`Participant::read_field`]
+//! returns a view of the received value, read in place.
+
+use crate::channel::{self, BytesIn, BytesOut, ChannelError, FieldSample, Ipc};
+use crate::error::ExchangeError;
+use crate::fields::{Inputs, Outputs};
+use crate::monitors::{Batch, Monitor, Rows};
+use crate::timing::{Command, Plan, Timing};
+use crate::wait::{WaitError, Waiter};
+use crate::wire::{FromParticipant, Setup, Stats};
+use iceoryx2::node::Node;
+use iceoryx2::port::notifier::Notifier;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// A received field, read in place in shared memory. Derefs to `[f64]`.
+pub struct FieldView {
+    sample: FieldSample,
+}
+
+impl std::ops::Deref for FieldView {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        self.sample.payload()
+    }
+}
+
+fn monitors_message(b: Batch) -> FromParticipant {
+    FromParticipant::Monitors {
+        first_row: b.first_row,
+        rows: b.rows,
+        width: b.width,
+        values: b.values,
+    }
+}
+
+/// The control channel between a participant and the coupler.
+pub(crate) struct Control {
+    pub commands: BytesIn,
+    pub status: BytesOut,
+    pub wake_coupler: Notifier<Ipc>,
+}
+
+impl Control {
+    /// Send a message the coupler must hear at once.
+    pub(crate) fn send(&self, msg: &FromParticipant) -> Result<(), ChannelError> {
+        channel::send_message(&self.status, &self.wake_coupler, msg)
+    }
+
+    /// Leave a message the coupler reads when it next looks (monitor rows).
+    pub(crate) fn post(&self, msg: &FromParticipant) -> Result<(), ChannelError> {
+        channel::post_message(&self.status, msg)
+    }
+}
+
+/// Where the participant's time goes: its own work (between calls), the
+/// exchange inside calls, and waiting for fields.
+struct Clock {
+    /// When the library last handed control back to the solver.
+    back: Instant,
+    started: Instant,
+    stats: Stats,
+}
+
+impl Clock {
+    /// Entering a call: the time since the last one was the solver's.
+    fn enter(&mut self) -> Instant {
+        let now = Instant::now();
+        self.stats.compute_s += (now - self.back).as_secs_f64();
+        now
+    }
+
+    /// Leaving a call entered at `entered`, of which `waited` was spent
+    /// waiting and `computed` in the solver's own closure.
+    fn leave(&mut self, entered: Instant, waited: Duration, computed: Duration) {
+        self.leave_sent(entered, waited, computed, Duration::ZERO);
+    }
+
+    /// The same for a write, of which `in_flight` was spent sending a value
+    /// after stamping it: its reader, if it waits for it, counts that as
+    /// the value's latency, so it is not counted twice.
+    fn leave_sent(
+        &mut self,
+        entered: Instant,
+        waited: Duration,
+        computed: Duration,
+        in_flight: Duration,
+    ) {
+        let now = Instant::now();
+        let inside = now - entered;
+        let exchange = inside.saturating_sub(waited + computed + in_flight);
+        self.stats.exchange_s += exchange.as_secs_f64();
+        self.stats.wait_s += waited.as_secs_f64();
+        self.stats.compute_s += computed.as_secs_f64();
+        self.back = now;
+    }
+}
+
+/// One solver's connection to a running coupled run. See the module docs.
+pub struct Participant {
+    name: String,
+    setup: Setup,
+    control: Control,
+    waiter: Waiter,
+    outputs: Outputs,
+    inputs: Inputs,
+    plan: Plan,
+    rows: Rows,
+    /// The command handed out and not yet reported done.
+    pending: Option<Command>,
+    clock: Clock,
+    connected: Instant,
+    // Declared last: ports are dropped before their node.
+    _node: Node<Ipc>,
+}
+
+impl Participant {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        name: String,
+        setup: Setup,
+        control: Control,
+        waiter: Waiter,
+        (outputs, inputs): (Outputs, Inputs),
+        plan: Plan,
+        rows: Rows,
+        connected: Instant,
+        node: Node<Ipc>,
+    ) -> Participant {
+        let now = Instant::now();
+        Participant {
+            name,
+            setup,
+            control,
+            waiter,
+            outputs,
+            inputs,
+            plan,
+            rows,
+            pending: None,
+            clock: Clock {
+                back: now,
+                started: now,
+                stats: Stats::default(),
+            },
+            connected,
+            _node: node,
+        }
+    }
+
+    /// This participant's name: its key under `[participants]`.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The run directory, where the participant writes its output files.
+    pub fn run_dir(&self) -> &Path {
+        &self.setup.run_dir
+    }
+
+    pub fn timing(&self) -> &Timing {
+        &self.setup.timing
+    }
+
+    /// Whether a participant of this name takes part in the run.
+    pub fn is_present(&self, name: &str) -> bool {
+        self.setup.participants.iter().any(|p| p == name)
+    }
+
+    /// Whether `field` is exchanged in this run: a declared write that some
+    /// participant reads, or a declared read that some participant writes.
+    pub fn is_connected(&self, field: &str) -> bool {
+        match (self.outputs.find(field), self.inputs.find(field)) {
+            (Some(i), _) => self.outputs.has_readers(i),
+            (_, Some(i)) => self.inputs.list[i].is_connected(),
+            _ => false,
+        }
+    }
+
+    /// The next command of the schedule. The previous one must have been
+    /// reported [`done`](Self::done).
+    pub fn next_command(&mut self) -> Result<Command, ExchangeError> {
+        let entered = self.clock.enter();
+        if self.pending.is_some() {
+            return Err(ExchangeError::Misuse(
+                "next_command() was called before the last command was reported done()",
+            ));
+        }
+        let command = self.plan.next().ok_or(ExchangeError::Misuse(
+            "next_command() was called after Stop",
+        ))?;
+        if command != Command::Stop {
+            self.pending = Some(command);
+        }
+        self.clock.stats.commands += 1;
+        self.clock.leave(entered, Duration::ZERO, Duration::ZERO);
+        Ok(command)
+    }
+
+    /// Publish `len` values of `field`. `fill` receives the loaned
+    /// shared-memory slice and must overwrite every value (its previous
+    /// contents are stale values of an earlier exchange). A field nobody
+    /// reads in this run is skipped without calling `fill`.
+    pub fn write_field(
+        &mut self,
+        field: &str,
+        len: usize,
+        fill: impl FnOnce(&mut [f64]),
+    ) -> Result<(), ExchangeError> {
+        let entered = self.clock.enter();
+        let i = self
+            .outputs
+            .find(field)
+            .ok_or_else(|| ExchangeError::Undeclared(field.to_string()))?;
+        let written = match self.outputs.write(i, len, fill, &self.waiter.presence) {
+            Ok(w) => w,
+            Err(e) => {
+                // The coupler hears why, not only that this process ended.
+                let reason = e.to_string();
+                let _ = self.control.send(&FromParticipant::Failed { reason });
+                return Err(e);
+            }
+        };
+        self.clock
+            .leave_sent(entered, Duration::ZERO, written.computed, written.in_flight);
+        Ok(())
+    }
+
+    /// The next value of `field`, read in place; waits until it arrives.
+    /// Every value written is read once, in order.
+    pub fn read_field(&mut self, field: &str) -> Result<FieldView, ExchangeError> {
+        let entered = self.clock.enter();
+        let i = self
+            .inputs
+            .find(field)
+            .ok_or_else(|| ExchangeError::Undeclared(field.to_string()))?;
+        let input = &self.inputs.list[i];
+        let Some(source) = &input.source else {
+            return Err(ExchangeError::NotConnected(field.to_string()));
+        };
+        let deadline = Duration::from_secs_f64(self.setup.timing.timeout);
+        let waited_from = Instant::now();
+        let (rows, control) = (&mut self.rows, &self.control);
+        // A long wait may be a stopping run's: the rows so far go out now.
+        let send_rows = || {
+            if let Some(msg) = rows.take(true).map(monitors_message) {
+                let _ = control.post(&msg);
+            }
+        };
+        let result = self.waiter.wait(
+            input.writer,
+            input.last_wait,
+            deadline,
+            || input.poll(),
+            send_rows,
+        );
+        let waited = waited_from.elapsed();
+        let got = match result {
+            Ok(w) => w,
+            Err(WaitError::Timeout(seconds)) => {
+                let (field, writer) = (field.to_string(), source.writer.clone());
+                let _ = self.control.send(&FromParticipant::Stalled {
+                    field: field.clone(),
+                    writer: writer.clone(),
+                    seconds,
+                });
+                return Err(ExchangeError::Stalled {
+                    field,
+                    writer,
+                    seconds,
+                });
+            }
+            Err(WaitError::Channel(e)) => return Err(e.into()),
+        };
+        let input = &mut self.inputs.list[i];
+        let sent = input.accept(&got.value)?;
+        input.last_wait = waited;
+        self.clock.stats.sleeps += got.slept as u64;
+        if !got.ready {
+            // It came while this participant waited: how late it learned of it.
+            let late = crate::channel::monotonic_ns().saturating_sub(sent);
+            self.clock.stats.latency_s += late as f64 * 1e-9;
+        }
+        self.clock.leave(entered, waited, Duration::ZERO);
+        Ok(FieldView { sample: got.value })
+    }
+
+    /// Report the last command done, with the newest values of any of the
+    /// declared monitors. At the start and at every window end a row of
+    /// `monitors.csv` is closed with the newest value of each.
+    pub fn done(&mut self, monitors: Vec<Monitor>) -> Result<(), ExchangeError> {
+        let entered = self.clock.enter();
+        let Some(command) = self.pending.take() else {
+            return Err(ExchangeError::Misuse(
+                "done() was called with no command pending",
+            ));
+        };
+        self.rows
+            .update(&monitors)
+            .map_err(ExchangeError::UndeclaredMonitor)?;
+        let closes_row = match command {
+            Command::Initialize => true,
+            Command::Advance(a) => a.window_end,
+            _ => false,
+        };
+        if closes_row {
+            self.rows.push_row();
+            self.send_rows(false)?;
+        }
+        self.clock.leave(entered, Duration::ZERO, Duration::ZERO);
+        Ok(())
+    }
+
+    /// Send the monitor rows closed so far: posted for the coupler's next
+    /// look, or when `last` (before a failure or the statistics) at once.
+    fn send_rows(&mut self, last: bool) -> Result<(), ChannelError> {
+        if let Some(msg) = self.rows.take(last).map(monitors_message) {
+            match last {
+                true => self.control.send(&msg)?,
+                false => self.control.post(&msg)?,
+            }
+        }
+        Ok(())
+    }
+
+    /// Report that this participant cannot go on; the caller then exits
+    /// non-zero. The monitor rows closed so far are sent first.
+    pub fn fail(&mut self, reason: impl Into<String>) -> Result<(), ExchangeError> {
+        self.waiter.presence.own().leave();
+        self.send_rows(true)?;
+        let reason = reason.into();
+        Ok(self.control.send(&FromParticipant::Failed { reason })?)
+    }
+
+    /// After `Stop`: send the last monitor rows and this process's
+    /// statistics; `substeps` is the number of internal sub-steps the
+    /// solver took. The process then exits 0.
+    pub fn finish(mut self, substeps: u64) -> Result<(), ExchangeError> {
+        let entered = self.clock.enter();
+        self.waiter.presence.own().leave();
+        self.send_rows(true)?;
+        self.clock.leave(entered, Duration::ZERO, Duration::ZERO);
+        let mut stats = self.clock.stats.clone();
+        stats.substeps = substeps;
+        stats.cpu_s = crate::usage::cpu_seconds();
+        stats.wall_s = self.connected.elapsed().as_secs_f64();
+        stats.run_s = self.clock.started.elapsed().as_secs_f64();
+        Ok(self.control.send(&FromParticipant::Finished(stats))?)
+    }
+}

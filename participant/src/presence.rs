@@ -1,0 +1,353 @@
+//! What every participant of a run is doing, on a blackboard flag each one
+//! keeps: computing, spinning or asleep; for a wait, whether it is expected
+//! to be short, how long (as a power of two), and whom it waits for; and
+//! how many cores it holds.
+//!
+//! The schedule is staggered: one participant computes while the others
+//! wait for it. A waiting participant spins (it sees its value within a
+//! fraction of a microsecond, with no system call on either side) when its
+//! wait is expected short and the run's busy processes leave it a core.
+//! When they do not, the waiter expecting the shortest wait keeps spinning
+//! and the others sleep on their wake events: in a window of the
+//! structure trading impulses with the rigid bodies every sub-step, the
+//! rigid bodies spin and the fluid, which waits for the window's end,
+//! sleeps. A sleeper is woken when it should spin after all: by its writer
+//! starting to compute, or by another participant falling asleep and
+//! freeing a core. A writer wakes a sleeping reader when its value is out;
+//! a spinning reader costs it nothing.
+
+use crate::channel::{self, Board, ChannelError, FlagIn, FlagOut, Ipc};
+use crate::names;
+use iceoryx2::node::Node;
+use iceoryx2::port::notifier::Notifier;
+use std::sync::atomic::{fence, Ordering};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum State {
+    Computing,
+    Spinning,
+    Asleep,
+}
+
+/// One participant's flag, decoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Seen {
+    pub state: State,
+    /// Whether the wait it is in is expected to be short.
+    pub short: bool,
+    /// How long it is expected to be: ⌈log₂⌉ of its last length in µs.
+    pub expected: u8,
+    /// The participant it waits for, by index.
+    pub waiting_for: Option<usize>,
+    /// Cores it holds while awake (its MPI ranks).
+    pub ranks: u64,
+}
+
+/// A wait's expected length as a flag holds it: ⌈log₂⌉ of µs, at most 31.
+pub fn expected(last: std::time::Duration) -> u8 {
+    let us = last.as_micros().min(u32::MAX as u128) as u32;
+    (32 - us.leading_zeros()).min(31) as u8
+}
+
+impl Seen {
+    fn encode(self) -> u64 {
+        let state = match self.state {
+            State::Computing => 0,
+            State::Spinning => 1,
+            State::Asleep => 2,
+        };
+        let waiting = self.waiting_for.map_or(0, |w| w as u64 + 1);
+        state
+            | (self.short as u64) << 2
+            | (self.expected as u64 & 31) << 3
+            | (self.ranks & 0xffff) << 8
+            | waiting << 24
+    }
+
+    fn decode(v: u64) -> Seen {
+        Seen {
+            state: match v & 3 {
+                0 => State::Computing,
+                1 => State::Spinning,
+                _ => State::Asleep,
+            },
+            short: v & 4 != 0,
+            expected: ((v >> 3) & 31) as u8,
+            waiting_for: match v >> 24 {
+                0 => None,
+                w => Some(w as usize - 1),
+            },
+            ranks: (v >> 8) & 0xffff,
+        }
+    }
+
+    /// Cores it holds now: all its ranks while awake; asleep, rank 0 gives
+    /// its core back and the others (polling inside MPI) keep theirs.
+    fn cores(self) -> u64 {
+        match self.state {
+            State::Asleep => self.ranks.saturating_sub(1),
+            _ => self.ranks,
+        }
+    }
+
+    /// Whether it waits with a better claim to spin than `other`: a
+    /// shorter expected wait, or an equal one and a lower index.
+    fn before(self, me: usize, other: Seen, index: usize) -> bool {
+        (self.expected, me) < (other.expected, index)
+    }
+}
+
+/// This participant's own flag, as it is created when connecting.
+pub struct Own {
+    flag: FlagOut,
+    ranks: u64,
+    _board: Board,
+}
+
+impl Own {
+    pub fn create(
+        node: &Node<Ipc>,
+        run: &str,
+        name: &str,
+        ranks: usize,
+    ) -> Result<Own, ChannelError> {
+        let (board, flag) = channel::own_flag(node, &names::asleep(run, name))?;
+        let own = Own {
+            flag,
+            ranks: ranks.max(1) as u64,
+            _board: board,
+        };
+        own.set(State::Computing, None);
+        Ok(own)
+    }
+
+    pub fn set(&self, state: State, wait: Option<(bool, u8, usize)>) {
+        let seen = Seen {
+            state,
+            short: wait.is_some_and(|w| w.0),
+            expected: wait.map_or(0, |w| w.1),
+            waiting_for: wait.map(|w| w.2),
+            ranks: self.ranks,
+        };
+        self.flag.update_with_copy(seen.encode());
+    }
+
+    /// Leaving the run: holding no core, waiting for no one.
+    pub fn leave(&self) {
+        let seen = Seen {
+            state: State::Asleep,
+            short: false,
+            expected: 0,
+            waiting_for: None,
+            ranks: 0,
+        };
+        self.flag.update_with_copy(seen.encode());
+    }
+}
+
+struct Peer {
+    flag: FlagIn,
+    wake: Notifier<Ipc>,
+    _board: Board,
+}
+
+/// Every participant's flag, and a way to wake each.
+pub struct Presence {
+    own: Own,
+    /// Index of this participant among the run's.
+    me: usize,
+    /// By participant index; None for this one.
+    peers: Vec<Option<Peer>>,
+    cores: u64,
+}
+
+impl Presence {
+    /// Open the other participants' flags; `names` are the run's
+    /// participants, `me` this one's index among them.
+    pub fn open(
+        node: &Node<Ipc>,
+        run: &str,
+        names: &[String],
+        me: usize,
+        own: Own,
+    ) -> Result<Presence, ChannelError> {
+        let mut peers = Vec::new();
+        for (i, name) in names.iter().enumerate() {
+            if i == me {
+                peers.push(None);
+                continue;
+            }
+            let (board, flag) = channel::peer_flag(node, &names::asleep(run, name))?;
+            let wake = channel::notifier(node, &names::wake(run, name))?;
+            peers.push(Some(Peer {
+                flag,
+                wake,
+                _board: board,
+            }));
+        }
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
+        Ok(Presence {
+            own,
+            me,
+            peers,
+            cores,
+        })
+    }
+
+    /// This participant's own flag.
+    pub fn own(&self) -> &Own {
+        &self.own
+    }
+
+    fn seen(&self, p: usize) -> Option<Seen> {
+        let peer = self.peers.get(p)?.as_ref()?;
+        Some(Seen::decode(*peer.flag.get()))
+    }
+
+    fn wake(&self, p: usize) -> Result<(), ChannelError> {
+        if let Some(Some(peer)) = self.peers.get(p) {
+            peer.wake.notify().map_err(channel::ipc_err("notify"))?;
+        }
+        Ok(())
+    }
+
+    /// Whether this machine has a core to spare at all.
+    pub fn can_spin(&self) -> bool {
+        self.cores >= 2
+    }
+
+    /// Every participant's flag but `except`'s (this one's own as `mine`).
+    fn others(&self, except: usize, mine: Seen) -> impl Iterator<Item = (usize, Seen)> + '_ {
+        (0..self.peers.len())
+            .filter(move |&p| p != except)
+            .filter_map(move |p| match p == self.me {
+                true => Some((p, mine)),
+                false => self.seen(p).map(|s| (p, s)),
+            })
+    }
+
+    /// Whether participant `p`, waiting as `w`, may spin while this one is
+    /// `mine`: its wait is expected short, and the others' busy cores
+    /// leave it room, or, when they do not, the computing ones alone do and
+    /// no spinner expects a shorter wait.
+    fn may_spin_as(&self, p: usize, w: Seen, mine: Seen) -> bool {
+        if !w.short || !self.can_spin() {
+            return false;
+        }
+        let busy: u64 = self.others(p, mine).map(|(_, s)| s.cores()).sum();
+        if busy + w.ranks <= self.cores {
+            return true;
+        }
+        let computing: u64 = self
+            .others(p, mine)
+            .filter(|(_, s)| s.state == State::Computing)
+            .map(|(_, s)| s.cores())
+            .sum();
+        computing + w.ranks <= self.cores
+            && self
+                .others(p, mine)
+                .filter(|(_, s)| s.state == State::Spinning)
+                .all(|(q, s)| w.before(p, s, q))
+    }
+
+    /// Whether this participant, waiting (`short`, `expected`) for
+    /// `writer`, may spin now.
+    pub fn may_spin(&self, short: bool, expected: u8, writer: usize) -> bool {
+        let w = self.as_waiting(State::Spinning, short, expected, writer);
+        self.may_spin_as(self.me, w, w)
+    }
+
+    fn as_waiting(&self, state: State, short: bool, expected: u8, writer: usize) -> Seen {
+        Seen {
+            state,
+            short,
+            expected,
+            waiting_for: Some(writer),
+            ranks: self.own.ranks,
+        }
+    }
+
+    /// Waiting for `writer`: spinning, or (after a fence that pairs with
+    /// the writer's) asleep.
+    pub fn waiting(&self, state: State, short: bool, expected: u8, writer: usize) {
+        self.own.set(state, Some((short, expected, writer)));
+        fence(Ordering::SeqCst);
+    }
+
+    /// Wake the sleepers `pick` selects that may spin now, this participant
+    /// being `mine`.
+    fn wake_spinners(&self, mine: Seen, pick: impl Fn(Seen) -> bool) -> Result<(), ChannelError> {
+        for p in 0..self.peers.len() {
+            let Some(s) = self.seen(p) else { continue };
+            if s.state == State::Asleep && pick(s) {
+                let as_spinner = Seen {
+                    state: State::Spinning,
+                    ..s
+                };
+                if self.may_spin_as(p, as_spinner, mine) {
+                    self.wake(p)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The value came: computing from now on. Whoever sleeps in a short
+    /// wait for this participant and may spin now is woken.
+    pub fn computing(&self) -> Result<(), ChannelError> {
+        self.own.set(State::Computing, None);
+        let mine = Seen {
+            state: State::Computing,
+            short: false,
+            expected: 0,
+            waiting_for: None,
+            ranks: self.own.ranks,
+        };
+        self.wake_spinners(mine, |s| s.waiting_for == Some(self.me))
+    }
+
+    /// This participant just fell asleep (waiting as given) and freed a
+    /// core: wake those that may spin now.
+    pub fn freed_core(&self, short: bool, expected: u8, writer: usize) -> Result<(), ChannelError> {
+        let mine = self.as_waiting(State::Asleep, short, expected, writer);
+        self.wake_spinners(mine, |_| true)
+    }
+
+    /// After a value went out to `readers`: wake those that sleep. The
+    /// fence pairs with the one a reader passes after raising its flag
+    /// (Dekker's pattern), so a reader falling asleep as the value goes out
+    /// is woken or sees it.
+    pub fn wake_sleeping(&self, readers: &[usize]) -> Result<(), ChannelError> {
+        fence(Ordering::SeqCst);
+        for &r in readers {
+            if self.seen(r).is_some_and(|s| s.state == State::Asleep) {
+                self.wake(r)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_flag_reads_back_as_written() {
+        assert_eq!(expected(std::time::Duration::from_micros(300)), 9);
+        for (state, short, expected, waiting_for, ranks) in [
+            (State::Asleep, true, 9, Some(0), 4),
+            (State::Computing, false, 0, None, 1),
+            (State::Spinning, true, 31, Some(7), 1),
+        ] {
+            let seen = Seen {
+                state,
+                short,
+                expected,
+                waiting_for,
+                ranks,
+            };
+            assert_eq!(Seen::decode(seen.encode()), seen);
+        }
+    }
+}

@@ -1,0 +1,275 @@
+//! The coupler's end of the protocol: open a control channel per
+//! participant, take each through the handshake (hello, setup,
+//! declaration, connections, ready, start), then collect what they report
+//! while they run the schedule by themselves.
+//!
+//! Solvers do not use this module; the `coupler` executable does.
+
+use crate::channel::{self, BytesIn, BytesOut, ChannelError, Ipc};
+use crate::declaration::Declaration;
+use crate::matching::connect_fields;
+use crate::names;
+use crate::wire::{FromParticipant, ToParticipant};
+use iceoryx2::node::Node;
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::notifier::Notifier;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+pub use crate::channel::{cleanup_dead_nodes, services_of_run};
+pub use crate::names::{new_run_id, ENV_PARTICIPANT, ENV_RANKS, ENV_RUN_ID};
+pub use crate::wire::{Setup, Stats};
+
+/// What a running participant reports.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Report {
+    /// `rows` monitor rows from `first_row` on, `width` values each (the
+    /// declared monitors, in order), flat.
+    Monitors {
+        first_row: u64,
+        rows: u64,
+        width: u32,
+        values: Vec<f64>,
+    },
+    Finished(Stats),
+}
+
+/// Why the coupler stops a run.
+#[derive(Debug, thiserror::Error)]
+pub enum SuperviseError {
+    #[error("participant `{participant}` reported failure: {reason}")]
+    Failed { participant: String, reason: String },
+    #[error("participant `{participant}` did not answer within {seconds:.1} s{detail}")]
+    Timeout {
+        participant: String,
+        seconds: f64,
+        /// Who noticed, and waiting for what.
+        detail: String,
+    },
+    #[error("participant `{participant}` sent {got} where {expected} was expected")]
+    Protocol {
+        participant: String,
+        expected: &'static str,
+        got: String,
+    },
+    /// The declarations do not fit together (a read nobody writes).
+    #[error("{0}")]
+    Mismatch(String),
+    #[error("stopped")]
+    Aborted,
+    #[error("coupling channel: {0}")]
+    Channel(ChannelError),
+}
+
+impl SuperviseError {
+    /// The participant to blame, if one is.
+    pub fn culprit(&self) -> Option<&str> {
+        match self {
+            SuperviseError::Failed { participant, .. }
+            | SuperviseError::Timeout { participant, .. }
+            | SuperviseError::Protocol { participant, .. } => Some(participant),
+            _ => None,
+        }
+    }
+}
+
+struct Port {
+    commands: BytesOut,
+    status: BytesIn,
+    wake: Notifier<Ipc>,
+}
+
+pub struct Supervisor {
+    names: Vec<String>,
+    ports: Vec<Port>,
+    listener: Listener<Ipc>,
+    abort: Arc<AtomicBool>,
+    declarations: Vec<Declaration>,
+    /// Seconds spent sending to the participants.
+    pub send_s: f64,
+    _node: Node<Ipc>,
+}
+
+impl Supervisor {
+    /// Open the control channels of the participants `names` of run `run`.
+    pub fn open(
+        run: &str,
+        names: &[String],
+        abort: Arc<AtomicBool>,
+    ) -> Result<Supervisor, ChannelError> {
+        let node = channel::node("coupler")?;
+        let listener = channel::listener(&node, &names::coupler_wake(run))?;
+        let mut ports = Vec::new();
+        for name in names {
+            ports.push(Port {
+                commands: channel::bytes_out(&node, &names::command(run, name))?,
+                status: channel::bytes_in(&node, &names::status(run, name))?,
+                wake: channel::notifier(&node, &names::wake(run, name))?,
+            });
+        }
+        Ok(Supervisor {
+            names: names.to_vec(),
+            ports,
+            listener,
+            abort,
+            declarations: Vec::new(),
+            send_s: 0.0,
+            _node: node,
+        })
+    }
+
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The declarations, once [`join`](Self::join) has collected them.
+    pub fn declarations(&self) -> &[Declaration] {
+        &self.declarations
+    }
+
+    fn send(&mut self, i: usize, msg: &ToParticipant) -> Result<(), SuperviseError> {
+        let t0 = Instant::now();
+        let port = &self.ports[i];
+        channel::send_message(&port.commands, &port.wake, msg).map_err(SuperviseError::Channel)?;
+        self.send_s += t0.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// The next message of participant `i`, or why there is none.
+    fn wait(&self, i: usize, timeout: Duration) -> Result<FromParticipant, SuperviseError> {
+        let abort = || self.abort.load(Ordering::Relaxed);
+        let msg = channel::wait_until(&self.listener, Some(timeout), &abort, || {
+            channel::try_receive_message::<FromParticipant>(&self.ports[i].status)
+        })
+        .map_err(|e| self.channel_error(i, e))?;
+        self.refuse_failure(i, msg)
+    }
+
+    fn channel_error(&self, i: usize, e: ChannelError) -> SuperviseError {
+        match e {
+            ChannelError::Timeout(seconds) => SuperviseError::Timeout {
+                participant: self.names[i].clone(),
+                seconds,
+                detail: String::new(),
+            },
+            ChannelError::Aborted => SuperviseError::Aborted,
+            other => SuperviseError::Channel(other),
+        }
+    }
+
+    /// A failure or a stall is an error; anything else is passed on.
+    fn refuse_failure(
+        &self,
+        i: usize,
+        msg: FromParticipant,
+    ) -> Result<FromParticipant, SuperviseError> {
+        match msg {
+            FromParticipant::Failed { reason } => Err(SuperviseError::Failed {
+                participant: self.names[i].clone(),
+                reason,
+            }),
+            FromParticipant::Stalled {
+                field,
+                writer,
+                seconds,
+            } => Err(SuperviseError::Timeout {
+                participant: writer,
+                seconds,
+                detail: format!(" (`{}` waited for field `{field}`)", self.names[i]),
+            }),
+            other => Ok(other),
+        }
+    }
+
+    fn protocol(&self, i: usize, expected: &'static str, got: FromParticipant) -> SuperviseError {
+        SuperviseError::Protocol {
+            participant: self.names[i].clone(),
+            expected,
+            got: format!("{got:?}"),
+        }
+    }
+
+    /// Wait for every participant's hello (`connect` long at most), send
+    /// each its setup, and collect their declarations (`timeout` each).
+    pub fn join(
+        &mut self,
+        setup: impl Fn(&str) -> Setup,
+        connect: Duration,
+        timeout: Duration,
+    ) -> Result<(), SuperviseError> {
+        for i in 0..self.names.len() {
+            match self.wait(i, connect)? {
+                FromParticipant::Hello { .. } => {}
+                other => return Err(self.protocol(i, "Hello", other)),
+            }
+            let s = setup(&self.names[i]);
+            self.send(i, &ToParticipant::Setup(s))?;
+        }
+        let mut declarations = Vec::new();
+        for i in 0..self.names.len() {
+            match self.wait(i, timeout)? {
+                FromParticipant::Declare(d) => declarations.push(d),
+                other => return Err(self.protocol(i, "Declare", other)),
+            }
+        }
+        self.declarations = declarations;
+        Ok(())
+    }
+
+    /// Connect the declared fields, wait until every participant has opened
+    /// its ports, and start them all.
+    pub fn start(&mut self, timeout: Duration) -> Result<(), SuperviseError> {
+        let connections =
+            connect_fields(&self.names, &self.declarations).map_err(SuperviseError::Mismatch)?;
+        for (i, c) in connections.into_iter().enumerate() {
+            self.send(i, &ToParticipant::Connections(c))?;
+        }
+        for i in 0..self.names.len() {
+            match self.wait(i, timeout)? {
+                FromParticipant::Ready => {}
+                other => return Err(self.protocol(i, "Ready", other)),
+            }
+        }
+        for i in 0..self.names.len() {
+            self.send(i, &ToParticipant::Start)?;
+        }
+        Ok(())
+    }
+
+    /// The next report of any participant, waiting at most `slice` for one.
+    pub fn next_report(&self, slice: Duration) -> Result<Option<(usize, Report)>, SuperviseError> {
+        let deadline = Instant::now() + slice;
+        loop {
+            for i in 0..self.ports.len() {
+                let msg = channel::try_receive_message::<FromParticipant>(&self.ports[i].status)
+                    .map_err(SuperviseError::Channel)?;
+                let Some(msg) = msg else { continue };
+                let report = match self.refuse_failure(i, msg)? {
+                    FromParticipant::Monitors {
+                        first_row,
+                        rows,
+                        width,
+                        values,
+                    } => Report::Monitors {
+                        first_row,
+                        rows,
+                        width,
+                        values,
+                    },
+                    FromParticipant::Finished(stats) => Report::Finished(stats),
+                    other => return Err(self.protocol(i, "a report", other)),
+                };
+                return Ok(Some((i, report)));
+            }
+            if self.abort.load(Ordering::Relaxed) {
+                return Err(SuperviseError::Aborted);
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return Ok(None);
+            }
+            channel::block(&self.listener, deadline - now).map_err(SuperviseError::Channel)?;
+        }
+    }
+}

@@ -1,0 +1,330 @@
+//! The run's clock: its windows, the steps each participant takes in them,
+//! and when output is due (DESIGN.md, "Time stepping").
+//!
+//! Every participant follows this schedule itself, and the coupler follows
+//! the same one to supervise, so the coupler relays no step: a participant
+//! starts a step when the fields it reads for it have arrived. One FSI
+//! window is one fluid step Δt_f; a participant that steps per impulse
+//! sub-step takes n_i steps of Δt_f/n_i in each window when it has an
+//! impulse partner, so that the two alternate.
+
+use serde::{Deserialize, Serialize};
+
+/// The run's time parameters, from the scenario's `[run]` and `[coupling]`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Timing {
+    /// Simulated start time [s].
+    pub start_time: f64,
+    /// Simulated end time [s]; the last window is shortened to end there.
+    pub end_time: f64,
+    /// FSI window Δt_f [s].
+    pub window: f64,
+    /// Simulated time between outputs [s]; 0 writes the first and last state only.
+    pub output_interval: f64,
+    /// Structure sub-steps n_s per window (`[coupling] structure_substeps`).
+    pub structure_substeps: u32,
+    /// Impulse exchanges n_i per window (`[coupling] impulse_substeps`).
+    pub impulse_substeps: u32,
+    /// Seconds a participant may wait for a field (or the coupler for an answer).
+    pub timeout: f64,
+}
+
+impl Timing {
+    /// Number of windows from start to end (the last one may be shortened).
+    pub fn windows(&self) -> u64 {
+        let span = self.end_time - self.start_time;
+        (span / self.window - 1e-9).ceil().max(1.0) as u64
+    }
+
+    /// Start time and length of window `w`; the last window ends exactly at `end_time`.
+    pub fn window_span(&self, w: u64) -> (f64, f64) {
+        let t = self.start_time + w as f64 * self.window;
+        (t, self.window.min(self.end_time - t))
+    }
+}
+
+/// How often a participant steps, as it declares it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Cadence {
+    /// One `Advance` per window of `substeps` internal sub-steps (the fluid: 1).
+    PerWindow { substeps: u32 },
+    /// One `Advance` per impulse sub-step, `substeps_per_window / n_i`
+    /// internal sub-steps each, when another participant steps per impulse
+    /// sub-step too (the structure: n_s; rigid bodies: n_i). Alone, it
+    /// steps like `PerWindow` with all of them.
+    PerImpulse { substeps_per_window: u32 },
+}
+
+/// One step of the schedule, as a participant is told to take it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Advance {
+    /// Index of the coupling (FSI) window, from 0.
+    pub window: u64,
+    /// Simulated time at the start of this step [s].
+    pub time: f64,
+    /// Length of this step [s].
+    pub dt: f64,
+    /// How many internal sub-steps of `dt / substeps` to take.
+    pub substeps: u32,
+    /// True on the last step of a window: report monitors and publish window-end fields.
+    pub window_end: bool,
+}
+
+/// What a participant does next, in schedule order.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Command {
+    /// Publish the initial values of your output fields; report monitors.
+    Initialize,
+    Advance(Advance),
+    /// Write output number `index` (simulated time `time`) into the run directory.
+    Output {
+        index: u64,
+        time: f64,
+    },
+    /// The run is over: call `finish`.
+    Stop,
+}
+
+/// When output is due: at the start, at every `output_interval` of
+/// simulated time (at the first window end that reaches it) and at the end.
+#[derive(Debug, Clone)]
+pub struct Outputs {
+    start: f64,
+    interval: f64,
+    /// Outputs written so far.
+    index: u64,
+    /// Interval multiples passed so far: the next one is due at start + (k+1)·interval.
+    passed: u64,
+}
+
+impl Outputs {
+    pub fn new(timing: &Timing) -> Outputs {
+        Outputs {
+            start: timing.start_time,
+            interval: timing.output_interval,
+            index: 0,
+            passed: 0,
+        }
+    }
+
+    /// Whether output is due at time `t` (`last`: the run's end); if so,
+    /// its index, and the schedule moves on. The next time is computed from
+    /// the interval count rather than added up, so no interval, however
+    /// small against `t`, can stall it.
+    pub fn due(&mut self, t: f64, last: bool) -> Option<u64> {
+        // A small tolerance keeps round-off in t from skipping an output.
+        let tol = 1e-9 * self.interval;
+        let next = self.start + (self.passed + 1) as f64 * self.interval;
+        let due = self.index == 0 || last || (self.interval > 0.0 && t >= next - tol);
+        if !due {
+            return None;
+        }
+        if self.interval > 0.0 {
+            let k = ((t + tol - self.start) / self.interval).floor();
+            self.passed = self.passed.max(k.max(0.0) as u64);
+        }
+        self.index += 1;
+        Some(self.index - 1)
+    }
+}
+
+/// One participant's commands, from `Initialize` to `Stop`.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    timing: Timing,
+    windows: u64,
+    /// Advances per window, and internal sub-steps per advance.
+    per_window: u32,
+    substeps: u32,
+    outputs: Outputs,
+    /// The command after the next one to hand out, as a position.
+    at: Position,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Position {
+    Initialize,
+    FirstOutput,
+    Advance { window: u64, k: u32 },
+    Output { window: u64 },
+    Stop,
+    Over,
+}
+
+impl Plan {
+    /// `partnered`: whether another participant steps per impulse sub-step.
+    pub fn new(timing: &Timing, cadence: Cadence, partnered: bool) -> Plan {
+        let n_i = timing.impulse_substeps.max(1);
+        let (per_window, substeps) = match cadence {
+            Cadence::PerWindow { substeps } => (1, substeps),
+            Cadence::PerImpulse {
+                substeps_per_window,
+            } if partnered => (n_i, substeps_per_window / n_i),
+            Cadence::PerImpulse {
+                substeps_per_window,
+            } => (1, substeps_per_window),
+        };
+        Plan {
+            timing: *timing,
+            windows: timing.windows(),
+            per_window,
+            substeps: substeps.max(1),
+            outputs: Outputs::new(timing),
+            at: Position::Initialize,
+        }
+    }
+
+    fn advance(&self, window: u64, k: u32) -> Advance {
+        let (t, dt) = self.timing.window_span(window);
+        if self.per_window == 1 {
+            return Advance {
+                window,
+                time: t,
+                dt,
+                substeps: self.substeps,
+                window_end: true,
+            };
+        }
+        let dt_i = dt / self.per_window as f64;
+        Advance {
+            window,
+            time: t + k as f64 * dt_i,
+            dt: dt_i,
+            substeps: self.substeps,
+            window_end: k + 1 == self.per_window,
+        }
+    }
+}
+
+impl Iterator for Plan {
+    type Item = Command;
+
+    fn next(&mut self) -> Option<Command> {
+        loop {
+            let (command, next) = match self.at {
+                Position::Initialize => (Some(Command::Initialize), Position::FirstOutput),
+                Position::FirstOutput => {
+                    let t = self.timing.start_time;
+                    let index = self.outputs.due(t, false);
+                    let first = Position::Advance { window: 0, k: 0 };
+                    (index.map(|index| Command::Output { index, time: t }), first)
+                }
+                Position::Advance { window, k } => {
+                    let next = if k + 1 < self.per_window {
+                        Position::Advance { window, k: k + 1 }
+                    } else {
+                        Position::Output { window }
+                    };
+                    (Some(Command::Advance(self.advance(window, k))), next)
+                }
+                Position::Output { window } => {
+                    let (t, dt) = self.timing.window_span(window);
+                    let last = window + 1 == self.windows;
+                    let time = t + dt;
+                    let index = self.outputs.due(time, last);
+                    let next = if last {
+                        Position::Stop
+                    } else {
+                        Position::Advance {
+                            window: window + 1,
+                            k: 0,
+                        }
+                    };
+                    (index.map(|index| Command::Output { index, time }), next)
+                }
+                Position::Stop => (Some(Command::Stop), Position::Over),
+                Position::Over => return None,
+            };
+            self.at = next;
+            if command.is_some() {
+                return command;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn timing(end_time: f64, output_interval: f64) -> Timing {
+        Timing {
+            start_time: 0.0,
+            end_time,
+            window: 1e-3,
+            output_interval,
+            structure_substeps: 6,
+            impulse_substeps: 3,
+            timeout: 1.0,
+        }
+    }
+
+    fn advances(plan: Plan) -> Vec<Advance> {
+        plan.filter_map(|c| match c {
+            Command::Advance(a) => Some(a),
+            _ => None,
+        })
+        .collect()
+    }
+
+    #[test]
+    fn impulse_partners_alternate_every_impulse_sub_step() {
+        let t = timing(0.01, 0.0);
+        let cadence = Cadence::PerImpulse {
+            substeps_per_window: 6,
+        };
+        let a = advances(Plan::new(&t, cadence, true));
+        assert_eq!(a.len(), 30, "3 impulse sub-steps in each of 10 windows");
+        assert!(a
+            .iter()
+            .all(|a| a.substeps == 2 && (a.dt - 1e-3 / 3.0).abs() < 1e-15));
+        assert_eq!(a.iter().filter(|a| a.window_end).count(), 10);
+        assert_eq!(a[4].time, 1e-3 + 1e-3 / 3.0, "window 1, sub-step 1");
+        // Alone, it takes all its sub-steps in one advance per window.
+        let a = advances(Plan::new(&t, cadence, false));
+        assert_eq!(a.len(), 10);
+        assert!(a.iter().all(|a| a.substeps == 6 && a.window_end));
+    }
+
+    #[test]
+    fn the_last_window_ends_at_the_end_time() {
+        let a = advances(Plan::new(
+            &timing(0.0105, 0.0),
+            Cadence::PerWindow { substeps: 1 },
+            false,
+        ));
+        assert_eq!(a.len(), 11);
+        let last = a[10];
+        assert!((last.time + last.dt - 0.0105).abs() < 1e-15, "{last:?}");
+    }
+
+    fn output_times(t: &Timing) -> Vec<f64> {
+        Plan::new(t, Cadence::PerWindow { substeps: 1 }, false)
+            .filter_map(|c| match c {
+                Command::Output { time, .. } => Some(time),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn outputs_come_at_the_start_every_interval_and_the_end() {
+        let times = output_times(&timing(0.2, 0.05));
+        let expected = [0.0, 0.05, 0.1, 0.15, 0.2];
+        assert_eq!(times.len(), expected.len(), "{times:?}");
+        assert!(times
+            .iter()
+            .zip(expected)
+            .all(|(a, b)| (a - b).abs() < 1e-12));
+        assert_eq!(output_times(&timing(0.2, 0.0)), vec![0.0, 0.2]);
+    }
+
+    #[test]
+    fn an_interval_far_below_the_clock_resolution_cannot_stall_the_schedule() {
+        // 1e-17 s added to t ≈ 0.05 does not change it: counting intervals
+        // rather than adding them up, the schedule still moves on, and
+        // writes at every window end.
+        let times = output_times(&timing(0.05, 1e-17));
+        assert_eq!(times.len(), 51);
+    }
+}

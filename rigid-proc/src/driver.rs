@@ -1,0 +1,201 @@
+//! Drives the rigid bodies through the run's schedule: reads the
+//! structure's impulses and the fluid's loads, steps the bodies, sends back
+//! their states and attachment points, reports monitors, writes output.
+//! The physics stays in [`Bodies`]; the IPC stays here and in the
+//! participant library.
+
+use crate::body::STATE_LEN;
+use crate::output::{write_points, write_surfaces};
+use crate::{Bodies, Load};
+use nalgebra::Vector3;
+use participant::vtu::Series;
+use participant::{Cadence, Command, Declaration, Monitor, Participant};
+use scenario::Scenario;
+
+type Error = Box<dyn std::error::Error>;
+
+/// The fields rigid bodies exchange, by name (docs/PROTOCOL.md, "Fields").
+pub mod fields {
+    /// Written every step: each attachment point's position and velocity (6).
+    pub const ATTACHMENT_STATE: &str = "attachment.state";
+    /// Read every step: the structure's impulse on each attachment point (3).
+    pub const ATTACHMENT_IMPULSE: &str = "attachment.impulse";
+    /// Written every step: every body's state (13), for the structure's collisions.
+    pub const COLLISION_BODIES: &str = "collision.bodies";
+    /// Read every step: the structure's collision impulses on each body (6).
+    pub const COLLISION_IMPULSE: &str = "collision.impulse";
+    /// Written at the start and every window end: every body's state (13).
+    pub const BODY_STATES: &str = "body.states";
+    /// Read once a window: the fluid's force and torque on each body (6).
+    pub const BODY_LOADS: &str = "body.loads";
+}
+use fields::*;
+
+fn monitors(b: &Bodies) -> Vec<Monitor> {
+    let (p, l) = (b.momentum(), b.angular_momentum());
+    let mut v = vec![
+        Monitor::new("kinetic_energy", b.kinetic_energy()),
+        Monitor::new("potential_energy", b.potential_energy()),
+        Monitor::new("momentum.x", p.x),
+        Monitor::new("momentum.y", p.y),
+        Monitor::new("momentum.z", p.z),
+        Monitor::new("angular_momentum", l.norm()),
+        Monitor::new("contact_impulses", b.contact_impulses as f64),
+    ];
+    let xyz = ["x", "y", "z"];
+    for body in b
+        .bodies
+        .iter()
+        .filter(|body| body.inv_mass() > 0.0 || body.state.v != Vector3::zeros())
+    {
+        let s = &body.state;
+        let omega = body.world_angular_velocity();
+        for c in 0..3 {
+            v.push(Monitor::new(format!("{}.{}", body.name, xyz[c]), s.x[c]));
+        }
+        for c in 0..3 {
+            v.push(Monitor::new(format!("{}.v{}", body.name, xyz[c]), s.v[c]));
+        }
+        if body.shape.is_some() {
+            for c in 0..3 {
+                v.push(Monitor::new(
+                    format!("{}.omega{}", body.name, xyz[c]),
+                    omega[c],
+                ));
+            }
+            // Angular velocity about each principal axis, wᵢ of eq. (2.12).
+            for c in 0..3 {
+                v.push(Monitor::new(format!("{}.w{}", body.name, c + 1), s.w[c]));
+            }
+            v.push(Monitor::new(
+                format!("{}.kinetic_energy", body.name),
+                body.kinetic_energy(),
+            ));
+            v.push(Monitor::new(
+                format!("{}.spin_momentum", body.name),
+                body.spin_momentum().norm(),
+            ));
+        }
+    }
+    v
+}
+
+fn publish(p: &mut Participant, b: &Bodies, window_end: bool) -> Result<(), Error> {
+    let n = 6 * b.attachments.len();
+    p.write_field(ATTACHMENT_STATE, n, |out| b.attachment_state(out))?;
+    let n = STATE_LEN * b.bodies.len();
+    p.write_field(COLLISION_BODIES, n, |out| b.write_states(out))?;
+    if window_end {
+        p.write_field(BODY_STATES, n, |out| b.write_states(out))?;
+    }
+    Ok(())
+}
+
+/// What the bodies exchange: their states and attachment points out, the
+/// structure's impulses and the fluid's loads in. They step per impulse
+/// sub-step, trading impulses with the structure.
+fn declaration(b: &Bodies, n_i: u32) -> Declaration {
+    let n = b.bodies.len();
+    Declaration::new(Cadence::PerImpulse {
+        substeps_per_window: n_i,
+    })
+    .writes(ATTACHMENT_STATE, 6, b.attachments.len())
+    .writes(COLLISION_BODIES, STATE_LEN as u32, n)
+    .writes(BODY_STATES, STATE_LEN as u32, n)
+    .reads_if_written(BODY_LOADS)
+    .reads_if_written(ATTACHMENT_IMPULSE)
+    .reads_if_written(COLLISION_IMPULSE)
+    .monitors(monitors(b).into_iter().map(|m| m.name))
+}
+
+/// Join the run as the rigid-body participant, build the bodies of the
+/// scenario's `[rigid]` section and step them to the end of the schedule.
+pub fn run() -> Result<(), Error> {
+    let joining = participant::connect()?;
+    let scenario = Scenario::from_resolved(joining.scenario())?;
+    let section = scenario
+        .rigid
+        .as_ref()
+        .ok_or("the scenario has no [rigid] section")?;
+    let attached = scenario
+        .structure
+        .as_ref()
+        .map(|s| s.attachments())
+        .unwrap_or_default();
+    let mut bodies = Bodies::new(section, &attached)?;
+    let n_i = scenario.coupling.impulse_substeps;
+    let mut p = joining.declare(declaration(&bodies, n_i))?;
+    // Centres of mass of every body, and the surfaces of bodies with shapes.
+    let mut centres = Series::new(p.run_dir(), "bodies");
+    let mut surfaces = bodies
+        .bodies
+        .iter()
+        .any(|b| b.shape.is_some())
+        .then(|| Series::new(p.run_dir(), "body-surfaces"));
+    let mut loads: Vec<Load> = Vec::new();
+    let mut loads_window = None;
+    let mut steps = 0u64;
+    loop {
+        match p.next_command()? {
+            Command::Initialize => {
+                publish(&mut p, &bodies, true)?;
+                p.done(monitors(&bodies))?;
+            }
+            Command::Advance(step) => {
+                // The fluid sends one load per window; its sub-steps keep it.
+                if p.is_connected(BODY_LOADS) && loads_window != Some(step.window) {
+                    let f = p.read_field(BODY_LOADS)?;
+                    loads = f
+                        .chunks_exact(6)
+                        .map(|c| Load {
+                            force: Vector3::new(c[0], c[1], c[2]),
+                            torque: Vector3::new(c[3], c[4], c[5]),
+                        })
+                        .collect();
+                    loads_window = Some(step.window);
+                }
+                let impulse = match p.is_connected(ATTACHMENT_IMPULSE) {
+                    true => Some(p.read_field(ATTACHMENT_IMPULSE)?),
+                    false => None,
+                };
+                if p.is_connected(COLLISION_IMPULSE) {
+                    bodies.apply_momenta(&p.read_field(COLLISION_IMPULSE)?);
+                }
+                let h = step.dt / step.substeps as f64;
+                for k in 0..step.substeps {
+                    // The impulse covers the whole step; apply it in the first sub-step.
+                    let j = match k {
+                        0 => impulse.as_deref().unwrap_or(&[]),
+                        _ => &[],
+                    };
+                    bodies.step(h, j, &loads);
+                }
+                steps += step.substeps as u64;
+                if let Some(name) = bodies.first_non_finite() {
+                    let msg = format!(
+                        "diverged at t = {:.6e} s: body `{name}` has a non-finite state",
+                        step.time + step.dt
+                    );
+                    p.fail(msg.clone())?;
+                    return Err(msg.into());
+                }
+                publish(&mut p, &bodies, step.window_end)?;
+                p.done(if step.window_end {
+                    monitors(&bodies)
+                } else {
+                    Vec::new()
+                })?;
+            }
+            Command::Output { index, time } => {
+                write_points(&mut centres, &bodies, index, time)?;
+                if let Some(series) = &mut surfaces {
+                    write_surfaces(series, &bodies, index, time)?;
+                }
+                p.done(Vec::new())?;
+            }
+            Command::Stop => break,
+        }
+    }
+    p.finish(steps)?;
+    Ok(())
+}
