@@ -114,14 +114,21 @@ pub fn coupler(args: &[&str]) -> Output {
         .expect("run coupler")
 }
 
-/// `coupler run scenario --out out`.
-pub fn run(scenario: &Path, out: &Path) -> Output {
-    coupler(&[
+/// The command `coupler run scenario --out out`, not yet started.
+pub fn run_command(scenario: &Path, out: &Path) -> std::process::Command {
+    let mut command = std::process::Command::new(coupler_exe());
+    command.args([
         "run",
         scenario.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-    ])
+    ]);
+    command
+}
+
+/// `coupler run scenario --out out`.
+pub fn run(scenario: &Path, out: &Path) -> Output {
+    run_command(scenario, out).output().expect("run coupler")
 }
 
 /// Run a scenario into `out`; panics with the coupler's stderr if it fails.

@@ -1,4 +1,4 @@
-//! The canopy in the incompressible flow (seed 000 §3.3): an open surface of
+//! The canopy in the incompressible flow (dissertation §3.3): an open surface of
 //! triangles the structure moves. Each window:
 //! 1. markers about one cell apart on its triangles take the fabric's
 //!    velocity, interpolated from the vertices (`sheet_markers`);
@@ -6,7 +6,7 @@
 //!    (`immersed.rs`: direct forcing with Peskin's δ, eq. 3.25, the
 //!    fabric's reaction spread to the grid and the grid's velocity
 //!    interpolated to it) — all of it for a closed fabric, and for a porous
-//!    one only what the Darcy–Forchheimer law of seed 003 eqs. (6)–(10)
+//!    one only what the Darcy–Forchheimer law of thesis eqs. (6)–(10)
 //!    lets through; along the fabric the air slips, as the structure takes
 //!    only the normal jump;
 //! 3. the pressure jump on each triangle is read side by side through the
@@ -39,7 +39,7 @@ pub fn sheet_markers(
 
 /// The fabric's law as the forcing takes it: Δp = a·w + b·w|w| [Pa] for
 /// the air's velocity w relative to the fabric along its normal. With
-/// v_f = ε·w (seed 003 eq. 9) in Δp = e(A·v_f + B·v_f|v_f|) (eq. 6):
+/// v_f = ε·w (thesis eq. 9) in Δp = e(A·v_f + B·v_f|v_f|) (eq. 6):
 /// a = e·A·ε, b = e·B·ε².
 pub fn porous_law(p: &Porous) -> [f64; 2] {
     let (e, eps) = (p.thickness, p.porosity);

@@ -1,5 +1,5 @@
 //! The numerical flux of the Euler equations along one line of cells,
-//! reconstructed characteristic-wise by WENO5 (seed 000 §3.2.1, eqs.
+//! reconstructed characteristic-wise by WENO5 (dissertation §3.2.1, eqs.
 //! 3.15–3.17; Jiang & Shu, J. Comput. Phys. 126, 202–228, 1996, §2.4).
 //!
 //! At each face the states and fluxes of the six cells around it are

@@ -1,4 +1,4 @@
-//! The local index coating of seed 000 §3.3.2, and the pressure jump across
+//! The local index coating of dissertation §3.3.2, and the pressure jump across
 //! the canopy it gives.
 //!
 //! The canopy is an open surface: far from it no side can be told, but near

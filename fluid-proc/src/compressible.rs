@@ -1,4 +1,4 @@
-//! The compressible Euler equations of seed 000 eq. (2.23) on a box of
+//! The compressible Euler equations of dissertation eq. (2.23) on a box of
 //! cells: characteristic WENO5 fluxes (`characteristic.rs`) along each
 //! axis, dimension by dimension, and the third-order TVD Runge–Kutta method
 //! of §3.2.1 (Shu & Osher, J. Comput. Phys. 77, 439–471, 1988, eq. 2.18):

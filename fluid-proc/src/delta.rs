@@ -1,4 +1,4 @@
-//! Peskin's 4-point discrete delta function, the smoothed δ of seed 000
+//! Peskin's 4-point discrete delta function, the smoothed δ of the dissertation
 //! eq. (3.25) that spreads a force at a point of a surface to the grid and
 //! interpolates the grid velocity back to the point.
 //!

@@ -87,6 +87,13 @@ fn run_porous(joining: Joining, scenario: &Scenario, section: &FluidSection) -> 
     // No flow goes round the bodies here: their states are not read.
     let declared = declaration(bodies, false, vec!["mean_pressure_jump".into()]);
     let mut p = joining.declare(declared)?;
+    let windows = p.reporting(|p| porous_windows(p, &model, bodies))?;
+    p.finish(windows)?;
+    Ok(())
+}
+
+/// The schedule, to its end; the windows taken.
+fn porous_windows(p: &mut Participant, model: &Porous, bodies: usize) -> Result<u64, Error> {
     let mut triangles: Option<Vec<[usize; 3]>> = None;
     let mut windows = 0u64;
     loop {
@@ -95,15 +102,13 @@ fn run_porous(joining: Joining, scenario: &Scenario, section: &FluidSection) -> 
             Command::Initialize => p.done(vec![Monitor::new("mean_pressure_jump", f64::NAN)])?,
             Command::Output { .. } => p.done(Vec::new())?,
             Command::Advance(_) => {
-                let m = porous_window(&mut p, &model, bodies, &mut triangles)?;
+                let m = porous_window(p, model, bodies, &mut triangles)?;
                 windows += 1;
                 p.done(m)?;
             }
-            Command::Stop => break,
+            Command::Stop => return Ok(windows),
         }
     }
-    p.finish(windows)?;
-    Ok(())
 }
 
 /// One window of the porous free-stream model: the jumps on the canopy the

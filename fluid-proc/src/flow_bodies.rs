@@ -21,7 +21,7 @@ pub struct FlowBodies {
 impl FlowBodies {
     /// The bodies of the scenario's `[rigid]` section (none without one),
     /// placed in `flow` at their initial poses. Mass points have no
-    /// surface: the seed's mass-point parachutist, outside the flow.
+    /// surface: the dissertation's mass-point parachutist, outside the flow.
     pub fn new(
         scenario: &Scenario,
         flow: &mut Incompressible,

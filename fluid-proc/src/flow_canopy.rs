@@ -104,7 +104,7 @@ impl FlowCanopy {
     }
 
     /// The pressure jump p⁻ − p⁺ across each triangle where it was last
-    /// placed [Pa] (seed 000 §3.3.2; the load is jump·area·n, n the normal
+    /// placed [Pa] (dissertation §3.3.2; the load is jump·area·n, n the normal
     /// of the vertex order), from the `pressure` [Pa] of the whole box `g`.
     pub fn jumps(&mut self, g: &Grid, pressure: &[f64]) -> &[f64] {
         let triangles = self.triangles.as_deref().unwrap_or(&[]);

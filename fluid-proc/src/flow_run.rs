@@ -14,10 +14,10 @@
 use crate::comm::Comm;
 use crate::driver::fields::*;
 use crate::driver::{declaration, Error};
+use crate::faces::Faces;
 use crate::flow_bodies::FlowBodies;
 use crate::flow_canopy::FlowCanopy;
 use crate::incompressible::{Incompressible, StepReport};
-use crate::mac::Faces;
 use crate::ranks::{Order, Stopped};
 use crate::setup::flow_on;
 use participant::vtu::{Image, Series};
@@ -149,7 +149,7 @@ pub fn lead(
     let mut p = joining
         .declare(declaration(f.flow.bodies.len(), true, names))
         .map_err(|e| Stopped::before_order(c, e))?;
-    let steps = run(&mut p, &mut f, section, bodies, jump_monitor, comm)?;
+    let steps = p.reporting(|p| run(p, &mut f, section, bodies, jump_monitor, comm))?;
     p.finish(steps)?;
     Ok(())
 }

@@ -1,4 +1,4 @@
-//! The ideal gas of the compressible Euler equations, seed 000 eqs.
+//! The ideal gas of the compressible Euler equations, dissertation eqs.
 //! (2.20)–(2.24): the conserved state U = (ρ, ρu, ρv, ρw, E), the
 //! equation of state p = (γ − 1)ρe (eq. 2.21), the flux along an axis
 //! (F, G, H of eq. 2.24), and the eigen-decomposition A = RΛL of the flux

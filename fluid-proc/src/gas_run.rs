@@ -71,7 +71,7 @@ pub fn lead(joining: Joining, section: &FluidSection, comm: Arc<dyn Comm>) -> Re
     let mut p = joining
         .declare(declaration(0, false, names))
         .map_err(|e| Stopped::before_order(c, e))?;
-    let steps = run(&mut p, gas, section, comm)?;
+    let steps = p.reporting(|p| run(p, gas, section, comm))?;
     p.finish(steps)?;
     Ok(())
 }

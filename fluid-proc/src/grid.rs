@@ -1,4 +1,4 @@
-//! A uniform box of cells for the cell-centred pressure (seed 000 §3.2.2):
+//! A uniform box of cells for the cell-centred pressure (dissertation §3.2.2):
 //! sizes, spacing, and what each of the six sides imposes on the pressure
 //! correction φ. A 2-D flow is one cell thick in z with periodic z sides.
 //!

@@ -1,11 +1,11 @@
-//! Rigid bodies immersed in the incompressible flow (seed 000 §2.4: the
+//! Rigid bodies immersed in the incompressible flow (dissertation §2.4: the
 //! parachutist or cargo as a finite body the air flows round), by direct
 //! forcing on the MAC faces (Uhlmann, J. Comput. Phys. 209, 448–476, 2005,
 //! §2.2; with the repeated forcing of Wang, Fan & Luo, Int. J. Numer. Meth.
 //! Fluids 56, 2008):
 //!
 //! 1. interpolate each velocity component at the body's surface markers
-//!    with Peskin's δ_h (`delta.rs`, seed 000 eq. 3.25 in reverse);
+//!    with Peskin's δ_h (`delta.rs`, dissertation eq. 3.25 in reverse);
 //! 2. the force per unit mass that brings it to the body's velocity in one
 //!    step, F_k = (U_k − Ũ_k)/Δt, is spread back with the same δ_h
 //!    (eq. 3.25), weighted by the marker's volume ΔV_k = ΔA_k·h;
@@ -23,15 +23,15 @@
 //! the fluid, plus the change of momentum of the fluid the body carries
 //! inside it (Uhlmann eq. 29): F = −ρ Σ_k F_k ΔV_k + ρ V dU/dt. For a body
 //! at rest in a steady flow it is the integral of the fluid's stress over
-//! the surface: the pressure force of seed 000 eq. (2.40) and the friction
+//! the surface: the pressure force of dissertation eq. (2.40) and the friction
 //! that eq. leaves out. The torque about the centre is −ρ Σ (x_k − c) × F_k ΔV_k;
 //! the inner fluid's share of it, ρ/ρ_body of the body's own change of
 //! angular momentum, is left out.
 
 use crate::comm::Slab;
 use crate::delta::{stencil, WIDTH};
+use crate::faces::Faces;
 use crate::grid::{Bc, Grid};
-use crate::mac::Faces;
 use crate::part::Part;
 use crate::surface::{enclosed_volume, Marker, Surface};
 use nalgebra::Isometry3;

@@ -1,4 +1,4 @@
-//! The incompressible Navier–Stokes solver of seed 000 §3.2.2: the
+//! The incompressible Navier–Stokes solver of dissertation §3.2.2: the
 //! pressure-increment projection method of eqs. (3.18)–(3.20) on the MAC grid
 //! (Brown, Cortez & Minion, J. Comput. Phys. 168, 464–499, 2001, the
 //! method's reference [5] there), second order in time:
@@ -8,7 +8,7 @@
 //!    to n + ½ by Adams–Bashforth, the viscous term Crank–Nicolson
 //!    (`viscosity.rs`);
 //!    Bodies in the flow then force u* to their motion (`immersed.rs`);
-//! 2. u^{n+1} = u* − Δt∇φ with ∇·u^{n+1} = 0 (`mac.rs`, `poisson.rs`);
+//! 2. u^{n+1} = u* − Δt∇φ with ∇·u^{n+1} = 0 (`projection.rs`, `poisson.rs`);
 //! 3. p^{n+½} = q + φ − (νΔt/2)∇²φ.
 //!
 //! Pressures here are kinematic (p/ρ, m²/s²); `pressure` gives pascals.
@@ -20,12 +20,13 @@
 //! returns are the whole box's.
 
 use crate::advection::advection;
+use crate::faces::{for_each_cell_faces, Faces};
 use crate::grid::Grid;
 use crate::immersed::{force, ImmersedBody};
-use crate::mac::{for_each_cell_faces, for_each_gradient, project, Faces};
 use crate::padded::Padded;
 use crate::part::{Halo, Part};
 use crate::poisson::{Poisson, SolveError};
+use crate::projection::{for_each_gradient, project};
 use crate::side::{bcs, Sides};
 use crate::viscosity::{laplacian, Helmholtz, ViscousError};
 use scenario::flow::MAX_COURANT;
@@ -261,7 +262,7 @@ impl Incompressible {
 
     /// Largest |∇·u| over the cells [1/s].
     pub fn max_divergence(&mut self) -> f64 {
-        crate::mac::divergence(&self.local, &self.u, &mut self.scratch);
+        crate::faces::divergence(&self.local, &self.u, &mut self.scratch);
         self.part
             .max(self.scratch.iter().fold(0.0, |m, d| m.max(d.abs())))
     }

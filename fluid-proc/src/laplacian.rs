@@ -1,5 +1,5 @@
 //! The cell-centred operator A = −∇²ₕ of the pressure Poisson equation
-//! (seed 000 eq. 3.19 after eliminating u^{n+1}): the 7-point stencil, a
+//! (dissertation eq. 3.19 after eliminating u^{n+1}): the 7-point stencil, a
 //! Neumann side dropping its term (the ghost equals the cell), a Dirichlet
 //! side φ = 0 on the face doubling it (the ghost is −φ_c). A is symmetric and
 //! positive semi-definite; its null space is the constants when no side is

@@ -1,9 +1,9 @@
 //! fluid-proc: the flow models that load the canopy and the bodies.
 //!
-//! - The porous free-stream model of seed 003 §2.1, whose law lives in the
+//! - The porous free-stream model of thesis §2.1, whose law lives in the
 //!   `porous` crate (structure solvers apply the same law with
 //!   `[structure.porous]`); it is what the scenes run today.
-//! - The incompressible Navier–Stokes solver of seed 000 §3.2.2
+//! - The incompressible Navier–Stokes solver of dissertation §3.2.2
 //!   (`incompressible.rs`, the step of eqs. 3.18–3.20), built from:
 //!   - the box of cells and its pressure sides (`grid.rs`) and velocity
 //!     sides (`side.rs`), and the scenario's flow (`setup.rs`);
@@ -12,7 +12,8 @@
 //!     Crank–Nicolson viscous solve (`viscosity.rs`);
 //!   - the pressure operator (`laplacian.rs`), its multigrid-preconditioned
 //!     conjugate-gradient solve (`multigrid.rs`, `poisson.rs`) and the
-//!     projection on the staggered grid (`mac.rs`).
+//!     projection (`projection.rs`) of the face velocities on the staggered
+//!     grid (`faces.rs`).
 //! - Rigid bodies in that flow: markers on their surfaces (`surface.rs`)
 //!   held to the bodies' motion by direct forcing (`immersed.rs`) with
 //!   Peskin's 4-point δ (`delta.rs`); the pressure force of eq. 2.40 read
@@ -21,7 +22,7 @@
 //!   along, held to the fabric's normal velocity (or, porous, letting
 //!   through what the Darcy–Forchheimer law allows), its pressure jump read
 //!   side by side through the local index coating (`coating.rs`).
-//! - The compressible Euler solver of seed 000 §3.2.1 (`compressible.rs`,
+//! - The compressible Euler solver of dissertation §3.2.1 (`compressible.rs`,
 //!   third-order TVD Runge–Kutta): the ideal gas and its characteristic
 //!   fields (`gas.rs`), the characteristic WENO5 flux along a line
 //!   (`characteristic.rs`), and the exact Riemann solution it is checked
@@ -46,6 +47,7 @@ pub mod comm;
 pub mod compressible;
 pub mod delta;
 pub mod driver;
+pub mod faces;
 pub mod flow_bodies;
 pub mod flow_canopy;
 pub mod flow_run;
@@ -55,7 +57,6 @@ pub mod grid;
 pub mod immersed;
 pub mod incompressible;
 pub mod laplacian;
-pub mod mac;
 #[cfg(feature = "mpi")]
 pub mod mpi_comm;
 pub mod multigrid;
@@ -64,6 +65,7 @@ pub mod part;
 pub mod poisson;
 pub mod pressure_force;
 pub mod profile;
+pub mod projection;
 pub mod ranks;
 pub mod riemann;
 pub mod setup;

@@ -14,7 +14,7 @@
 //! An axis one cell thick (the z of a 2-D flow) has no ghosts: it is
 //! periodic, and nothing varies along it.
 
-use crate::mac::Faces;
+use crate::faces::Faces;
 use crate::part::Part;
 use crate::side::{parabola, Side, Sides};
 

@@ -1,4 +1,4 @@
-//! The pressure force on a body, seed 000 eq. (2.40):
+//! The pressure force on a body, dissertation eq. (2.40):
 //! F_p = ∫_S (p − p₀) n̂ dA with n̂ into the body, that is −∮ p n dA with n
 //! the outward normal (a uniform p₀ gives nothing over a closed surface),
 //! and its torque −∮ (x − c) × p n dA.

@@ -65,6 +65,7 @@ impl Order {
 }
 
 /// Why a lead stopped early.
+#[derive(Debug)]
 pub struct Stopped {
     pub error: Error,
     /// Whether every rank stopped with it (a failed step, which all ranks
@@ -80,6 +81,12 @@ impl<E: Into<Error>> From<E> for Stopped {
             error: e.into(),
             together: false,
         }
+    }
+}
+
+impl std::fmt::Display for Stopped {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        self.error.fmt(f)
     }
 }
 

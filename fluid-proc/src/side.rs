@@ -1,4 +1,4 @@
-//! What each side of the flow box imposes on the velocity (seed 000 §3.2.2,
+//! What each side of the flow box imposes on the velocity (dissertation §3.2.2,
 //! the B(u*) of eq. 3.18), and what that means for the pressure correction.
 
 use crate::grid::Bc;

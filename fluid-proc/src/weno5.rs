@@ -1,5 +1,5 @@
 //! Fifth-order WENO reconstruction (Jiang & Shu, J. Comput. Phys. 126,
-//! 202–228, 1996), the reconstruction of seed 000 §3.2.1: the value at the
+//! 202–228, 1996), the reconstruction of dissertation §3.2.1: the value at the
 //! interface i+½ from the five cell values i−2…i+2, upwind from the left.
 //! Three third-order candidates are blended with weights that tend to the
 //! optimal (1/10, 6/10, 3/10) where the data are smooth, giving fifth order,

@@ -2,7 +2,7 @@
 //! solution of the Euler equations (eq. 2.23), ρ(x, t) = ρ₀(x − Vt) with u
 //! and p unchanged. Carried diagonally across a periodic square, it tests
 //! the fluxes along both axes at once and the order of the scheme: WENO5 in
-//! space and third-order Runge–Kutta in time (seed 000 §3.2.1), so with a
+//! space and third-order Runge–Kutta in time (dissertation §3.2.1), so with a
 //! fixed Courant number the error falls at least as h³.
 
 use fluid_proc::compressible::{Compressible, GasSetup, GasSide};

@@ -1,4 +1,4 @@
-//! The pressure Poisson solve of the projection (seed 000 eq. 3.19): second
+//! The pressure Poisson solve of the projection (dissertation eq. 3.19): second
 //! order against an exact solution, and an iteration count that stays flat
 //! as the grid is refined (multigrid-preconditioned conjugate gradients).
 
@@ -48,7 +48,7 @@ fn error(
 }
 
 /// The two sets of sides the flow scenes use: a closed box (the cavity) and
-/// the C-9 set-up of seed 000 §4.2.1 (periodic sides, given inflow below,
+/// the C-9 set-up of dissertation §4.2.1 (periodic sides, given inflow below,
 /// p = 0 at the top outflow).
 const WALLS: [[Bc; 2]; 2] = [[Bc::Neumann; 2], [Bc::Neumann; 2]];
 const C9: [[Bc; 2]; 2] = [[Bc::Periodic; 2], [Bc::Neumann, Bc::Dirichlet]];

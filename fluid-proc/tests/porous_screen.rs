@@ -4,9 +4,9 @@
 //! no variation along y, continuity keeps u = U everywhere, so the exact
 //! steady flow is the uniform stream, and the pressure drops across the
 //! sheet by the Darcy–Forchheimer law at the stream's speed,
-//! Δp = e(A·v_f + B·v_f²) with v_f = ε·U (seed 003 eqs. 6–9), and is
+//! Δp = e(A·v_f + B·v_f²) with v_f = ε·U (thesis eqs. 6–9), and is
 //! uniform on either side. The jump read through the index coating
-//! (seed 000 §3.3.2) must give it.
+//! (dissertation §3.3.2) must give it.
 
 use fluid_proc::canopy::{porous_law, sheet_markers};
 use fluid_proc::coating::Coating;
@@ -103,7 +103,7 @@ fn a_porous_screen_drops_the_darcy_forchheimer_pressure() {
 }
 
 /// A fabric moving with the stream along its normal at 0.4 U feels only the
-/// 0.6 U through it (seed 003 eq. 10: the air's velocity relative to the
+/// 0.6 U through it (thesis eq. 10: the air's velocity relative to the
 /// fabric).
 #[test]
 fn the_screen_feels_the_air_relative_to_it() {
@@ -116,7 +116,7 @@ fn the_screen_feels_the_air_relative_to_it() {
 
 /// The fabric's load is the pressure jump, a normal force, so the air gets
 /// only a normal force back and slips along the fabric (Newton's third
-/// law; seed 000 eq. 3.27 spreads a normal force too). A stream crossing
+/// law; dissertation eq. 3.27 spreads a normal force too). A stream crossing
 /// the screen obliquely, half as fast along it as through it, is then
 /// still the exact steady flow: it stays uniform to 10⁻⁹ m/s, and the drop
 /// is still the law's at the normal speed, closed or porous.

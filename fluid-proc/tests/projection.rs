@@ -1,11 +1,12 @@
-//! The projection of seed 000 eq. (3.19) on the MAC grid: a velocity field
+//! The projection of dissertation eq. (3.19) on the MAC grid: a velocity field
 //! with arbitrary divergence leaves it divergence-free to 1e-10 relative
 //! (the Deliver bound of issue 6), keeps the velocities the sides impose,
 //! and projecting again changes nothing (a projection is idempotent).
 
+use fluid_proc::faces::{divergence, Faces};
 use fluid_proc::grid::{Bc, Grid};
-use fluid_proc::mac::{divergence, project, Faces};
 use fluid_proc::poisson::Poisson;
+use fluid_proc::projection::project;
 
 /// Uniform numbers in [−1, 1) from a fixed seed (a 64-bit LCG, Knuth's MMIX constants).
 struct Lcg(u64);

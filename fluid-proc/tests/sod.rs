@@ -1,5 +1,5 @@
 //! Sod's shock tube (`scenarios/sod.toml`; Sod, J. Comput. Phys. 27, 1978)
-//! run by the compressible Euler solver of seed 000 §3.2.1 and checked
+//! run by the compressible Euler solver of dissertation §3.2.1 and checked
 //! against the exact solution of its Riemann problem (Toro, *Riemann
 //! Solvers and Numerical Methods for Fluid Dynamics*, ch. 4;
 //! `fluid_proc::riemann`), whose star state is p* = 0.30313, u* = 0.92745

@@ -315,7 +315,7 @@ fn slabs_that_cannot_halve_gather_the_finest_level() {
 
 #[test]
 fn bodies_in_a_split_flow_force_it_as_on_one_rank() {
-    // The sphere (forced to its motion, seed 000 eq. 3.25 both ways): its
+    // The sphere (forced to its motion, dissertation eq. 3.25 both ways): its
     // markers span cells 4.3 to 7.7 along z and its kernel 2 to 9, across
     // the slab boundary at 6 on two ranks and those at 4 and 8 on three.
     // The porous sheet's kernel, at cells −1 to 2, wraps round from rank 0

@@ -3,7 +3,7 @@
 //! on the periodic square [0, 2π]²:
 //!   u = sin x cos y F(t), v = −cos x sin y F(t), p/ρ = (cos 2x + cos 2y)F²/4,
 //!   F = e^{−2νt}.
-//! The projection method of seed 000 §3.2.2 (eqs. 3.18–3.20) is second order
+//! The projection method of dissertation §3.2.2 (eqs. 3.18–3.20) is second order
 //! in space and time: refining h and Δt together (fixed Courant number),
 //! the velocity and pressure errors fall 4-fold per halving.
 

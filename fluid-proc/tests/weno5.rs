@@ -1,4 +1,4 @@
-//! WENO5 reconstruction (seed 000 §3.2.1; Jiang & Shu 1996): fifth order on
+//! WENO5 reconstruction (dissertation §3.2.1; Jiang & Shu 1996): fifth order on
 //! smooth data, and no new extremum at a jump.
 
 use fluid_proc::weno5::reconstruct;

@@ -39,7 +39,7 @@ pub use error::{ChannelError, ExchangeError, JoinError};
 pub use joining::{connect, connect_as, Joining};
 pub use monitors::Monitor;
 pub use participant::{FieldView, Participant};
-pub use timing::{Advance, Cadence, Command, Outputs, Timing};
+pub use timing::{Advance, Cadence, Command, Timing};
 pub use usage::cpu_seconds;
 
 /// The number of MPI ranks this participant was started on (`ranks = N`

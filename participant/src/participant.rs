@@ -139,6 +139,8 @@ pub struct Participant {
     rows: Rows,
     /// The command handed out and not yet reported done.
     pending: Option<Command>,
+    /// Whether a failure was reported.
+    failed: bool,
     clock: Clock,
     connected: Instant,
     // Declared last: ports are dropped before their node.
@@ -169,6 +171,7 @@ impl Participant {
             plan,
             rows,
             pending: None,
+            failed: false,
             clock: Clock {
                 back: now,
                 started: now,
@@ -354,9 +357,28 @@ impl Participant {
         Ok(())
     }
 
+    /// Run `body`; an error it returns is reported to the coupler (as
+    /// [`fail`](Self::fail) would) before it is handed back, so that the
+    /// coupler says what went wrong, not only that the process ended.
+    pub fn reporting<T, E: std::fmt::Display>(
+        &mut self,
+        body: impl FnOnce(&mut Participant) -> Result<T, E>,
+    ) -> Result<T, E> {
+        let result = body(self);
+        if let Err(e) = &result {
+            let _ = self.fail(e.to_string());
+        }
+        result
+    }
+
     /// Report that this participant cannot go on; the caller then exits
-    /// non-zero. The monitor rows closed so far are sent first.
+    /// non-zero. The monitor rows closed so far are sent first. Only the
+    /// first report counts.
     pub fn fail(&mut self, reason: impl Into<String>) -> Result<(), ExchangeError> {
+        if self.failed {
+            return Ok(());
+        }
+        self.failed = true;
         self.waiter.presence.own().leave();
         self.send_rows(true)?;
         let reason = reason.into();

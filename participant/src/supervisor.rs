@@ -17,7 +17,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-pub use crate::channel::{cleanup_dead_nodes, services_of_run};
+pub use crate::channel::{
+    cleanup_dead_nodes, services_of_run, stale_node_entries, HALF_CREATED_AGE,
+};
 pub use crate::names::{new_run_id, ENV_PARTICIPANT, ENV_RANKS, ENV_RUN_ID};
 pub use crate::wire::{Setup, Stats};
 
@@ -199,9 +201,23 @@ impl Supervisor {
         timeout: Duration,
     ) -> Result<(), SuperviseError> {
         for i in 0..self.names.len() {
-            match self.wait(i, connect)? {
-                FromParticipant::Hello { .. } => {}
-                other => return Err(self.protocol(i, "Hello", other)),
+            match self.wait(i, connect) {
+                Ok(FromParticipant::Hello { .. }) => {}
+                Ok(other) => return Err(self.protocol(i, "Hello", other)),
+                Err(SuperviseError::Timeout {
+                    participant,
+                    seconds,
+                    ..
+                }) => {
+                    return Err(SuperviseError::Timeout {
+                        participant,
+                        seconds,
+                        detail:
+                            ": it never connected (does its program speak the canopy protocol?)"
+                                .into(),
+                    })
+                }
+                Err(e) => return Err(e),
             }
             let s = setup(&self.names[i]);
             self.send(i, &ToParticipant::Setup(s))?;

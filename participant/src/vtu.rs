@@ -38,10 +38,15 @@ pub struct Piece<'a> {
     pub point_data: Vec<(&'a str, usize, &'a [f64])>,
 }
 
+/// Write aside and rename. On failure (a full disk) the file aside is
+/// removed, and the error names the file.
 fn write_atomic(path: &Path, contents: &str) -> io::Result<()> {
     let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, contents)?;
-    std::fs::rename(&tmp, path)
+    let written = std::fs::write(&tmp, contents).and_then(|_| std::fs::rename(&tmp, path));
+    written.map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
+    })
 }
 
 fn join(values: &[f64]) -> String {
@@ -188,7 +193,10 @@ impl Series {
         extension: &str,
         write: impl FnOnce(&Path) -> io::Result<()>,
     ) -> io::Result<PathBuf> {
-        std::fs::create_dir_all(self.dir.join("vtk"))?;
+        let vtk = self.dir.join("vtk");
+        std::fs::create_dir_all(&vtk).map_err(|e| {
+            io::Error::new(e.kind(), format!("cannot create {}: {e}", vtk.display()))
+        })?;
         let rel = format!("vtk/{}_{index:06}.{extension}", self.name);
         let path = self.dir.join(&rel);
         write(&path)?;
@@ -226,6 +234,32 @@ pub fn read_points(path: &Path) -> io::Result<Vec<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_failed_write_names_its_file_and_leaves_no_file_aside() {
+        // The output's name is taken by a directory, so the rename fails,
+        // as a write on a full disk would.
+        let dir = std::env::temp_dir().join(format!("canopy-vtu-fail-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("vtk/canopy_000000.vtu")).unwrap();
+        let piece = Piece {
+            points: &[0.0; 3],
+            kind: CellKind::Vertex,
+            connectivity: &[0],
+            point_data: vec![],
+        };
+        let e = Series::new(&dir, "canopy")
+            .write(0, 0.0, &piece)
+            .unwrap_err();
+        assert!(e.to_string().contains("vtk/canopy_000000.vtu"), "{e}");
+        let aside: Vec<_> = std::fs::read_dir(dir.join("vtk"))
+            .unwrap()
+            .flatten()
+            .filter(|f| f.path().extension().is_some_and(|x| x == "tmp"))
+            .collect();
+        assert!(aside.is_empty(), "{aside:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn points_read_back_bit_identical() {

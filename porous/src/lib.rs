@@ -1,6 +1,6 @@
 //! The porous free-stream load: a uniform stream passes through the fabric as
 //! through a porous medium, and the Darcy–Forchheimer (Ergun) law gives the
-//! pressure jump across every canopy triangle (seed 003 eqs. 6–10). No flow
+//! pressure jump across every canopy triangle (thesis eqs. 6–10). No flow
 //! field is solved.
 //!
 //! One law for every process that applies it: fluid-proc's porous free-stream
@@ -16,11 +16,11 @@ pub struct Params {
     pub density: f64,
     /// Air dynamic viscosity μ [Pa·s].
     pub viscosity: f64,
-    /// Fabric porosity ε (0 < ε < 1), seed 003 eqs. (7)–(9).
+    /// Fabric porosity ε (0 < ε < 1), thesis eqs. (7)–(9).
     pub porosity: f64,
-    /// Characteristic (Ergun) diameter D [m], seed 003 eqs. (7)–(8).
+    /// Characteristic (Ergun) diameter D [m], thesis eqs. (7)–(8).
     pub diameter: f64,
-    /// Fabric thickness e [m], seed 003 eq. (6).
+    /// Fabric thickness e [m], thesis eq. (6).
     pub thickness: f64,
 }
 
@@ -28,9 +28,9 @@ pub struct Params {
 pub struct Porous {
     /// Free-stream velocity of the air [m/s].
     pub free_stream: [f64; 3],
-    /// Darcy coefficient A(ε, μ) [Pa·s/m²], seed 003 eq. (7).
+    /// Darcy coefficient A(ε, μ) [Pa·s/m²], thesis eq. (7).
     pub a: f64,
-    /// Forchheimer coefficient B(ε, μ) [Pa·s²/m³], seed 003 eq. (8).
+    /// Forchheimer coefficient B(ε, μ) [Pa·s²/m³], thesis eq. (8).
     pub b: f64,
     pub porosity: f64,
     pub thickness: f64,
@@ -147,7 +147,7 @@ mod tests {
 
     #[test]
     fn jump_follows_the_ergun_law() {
-        // Seed 003 eqs. (6)–(9) evaluated by hand for ε = 0.4, D = 2 mm, μ = 1.8e-5, ρ = 1.2.
+        // Thesis eqs. (6)–(9) evaluated by hand for ε = 0.4, D = 2 mm, μ = 1.8e-5, ρ = 1.2.
         let p = Porous::new(&section(10.0));
         let a = 1.8e-5 * 150.0 * 0.36 / (4e-6 * 0.16);
         let b = 1.2 * 1.75 * 0.6 / (2e-3 * 0.16);
@@ -174,7 +174,7 @@ mod tests {
 
     #[test]
     fn only_the_normal_component_seeps_through() {
-        // Seed 003 eq. (10): a stream along the fabric exerts no load.
+        // Thesis eq. (10): a stream along the fabric exerts no load.
         let mut s = section(0.0);
         s.free_stream = [30.0, -20.0, 0.0];
         let p = Porous::new(&s);

@@ -1,6 +1,6 @@
 //! One rigid body: its mass properties, its shape, and its state — centre of
 //! mass x, velocity v, Euler parameters e and angular velocity w in
-//! principal axes (seed 000 §2.1, §3.1.1).
+//! principal axes (dissertation §2.1, §3.1.1).
 
 use crate::euler_parameters::{self as ep, EulerParameters};
 use crate::mass::MassProperties;

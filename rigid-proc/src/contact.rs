@@ -1,8 +1,8 @@
-//! Rigid–rigid contact with a coefficient of restitution (seed 000 §3.4).
+//! Rigid–rigid contact with a coefficient of restitution (dissertation §3.4).
 //!
 //! parry finds the contact patches; each patch gets one impulse along its
 //! normal at the patch's centroid. For two bodies meeting head on, the
-//! impulse is the seed's inelastic part I_in = m₁m₂vₙ/(m₁+m₂) (eq. 3.28) plus
+//! impulse is the dissertation's inelastic part I_in = m₁m₂vₙ/(m₁+m₂) (eq. 3.28) plus
 //! the elastic part C_R·I_in (eq. 3.31); off the line of centres the general
 //! rigid-body form adds the rotational terms, j = −(1+C_R)vₙ / (1/m_a + 1/m_b
 //! + n·[(I_a⁻¹(r_a×n))×r_a + (I_b⁻¹(r_b×n))×r_b]), which reduces to it there.

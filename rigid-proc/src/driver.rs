@@ -9,7 +9,7 @@ use crate::output::{write_points, write_surfaces};
 use crate::{Bodies, Load};
 use nalgebra::Vector3;
 use participant::vtu::Series;
-use participant::{Cadence, Command, Declaration, Monitor, Participant};
+use participant::{Advance, Cadence, Command, Declaration, Monitor, Participant};
 use scenario::Scenario;
 
 type Error = Box<dyn std::error::Error>;
@@ -122,80 +122,101 @@ pub fn run() -> Result<(), Error> {
         .as_ref()
         .map(|s| s.attachments())
         .unwrap_or_default();
-    let mut bodies = Bodies::new(section, &attached)?;
+    let bodies = Bodies::new(section, &attached)?;
     let n_i = scenario.coupling.impulse_substeps;
     let mut p = joining.declare(declaration(&bodies, n_i))?;
-    // Centres of mass of every body, and the surfaces of bodies with shapes.
-    let mut centres = Series::new(p.run_dir(), "bodies");
-    let mut surfaces = bodies
-        .bodies
-        .iter()
-        .any(|b| b.shape.is_some())
-        .then(|| Series::new(p.run_dir(), "body-surfaces"));
-    let mut loads: Vec<Load> = Vec::new();
-    let mut loads_window = None;
-    let mut steps = 0u64;
-    loop {
-        match p.next_command()? {
-            Command::Initialize => {
-                publish(&mut p, &bodies, true)?;
-                p.done(monitors(&bodies))?;
+    let mut d = Driven {
+        // Centres of mass of every body, and the surfaces of bodies with shapes.
+        centres: Series::new(p.run_dir(), "bodies"),
+        surfaces: bodies
+            .bodies
+            .iter()
+            .any(|b| b.shape.is_some())
+            .then(|| Series::new(p.run_dir(), "body-surfaces")),
+        bodies,
+        loads: Vec::new(),
+        loads_window: None,
+        steps: 0,
+    };
+    p.reporting(|p| d.drive(p))?;
+    p.finish(d.steps)?;
+    Ok(())
+}
+
+/// The bodies taking part in a run, their output, and the fluid's loads
+/// for the current window.
+struct Driven {
+    bodies: Bodies,
+    centres: Series,
+    surfaces: Option<Series>,
+    loads: Vec<Load>,
+    loads_window: Option<u64>,
+    steps: u64,
+}
+
+impl Driven {
+    /// The schedule, to its end.
+    fn drive(&mut self, p: &mut Participant) -> Result<(), Error> {
+        loop {
+            match p.next_command()? {
+                Command::Initialize => {
+                    publish(p, &self.bodies, true)?;
+                    p.done(monitors(&self.bodies))?;
+                }
+                Command::Advance(step) => self.advance(p, &step)?,
+                Command::Output { index, time } => {
+                    write_points(&mut self.centres, &self.bodies, index, time)?;
+                    if let Some(series) = &mut self.surfaces {
+                        write_surfaces(series, &self.bodies, index, time)?;
+                    }
+                    p.done(Vec::new())?;
+                }
+                Command::Stop => return Ok(()),
             }
-            Command::Advance(step) => {
-                // The fluid sends one load per window; its sub-steps keep it.
-                if p.is_connected(BODY_LOADS) && loads_window != Some(step.window) {
-                    let f = p.read_field(BODY_LOADS)?;
-                    loads = f
-                        .chunks_exact(6)
-                        .map(|c| Load {
-                            force: Vector3::new(c[0], c[1], c[2]),
-                            torque: Vector3::new(c[3], c[4], c[5]),
-                        })
-                        .collect();
-                    loads_window = Some(step.window);
-                }
-                let impulse = match p.is_connected(ATTACHMENT_IMPULSE) {
-                    true => Some(p.read_field(ATTACHMENT_IMPULSE)?),
-                    false => None,
-                };
-                if p.is_connected(COLLISION_IMPULSE) {
-                    bodies.apply_momenta(&p.read_field(COLLISION_IMPULSE)?);
-                }
-                let h = step.dt / step.substeps as f64;
-                for k in 0..step.substeps {
-                    // The impulse covers the whole step; apply it in the first sub-step.
-                    let j = match k {
-                        0 => impulse.as_deref().unwrap_or(&[]),
-                        _ => &[],
-                    };
-                    bodies.step(h, j, &loads);
-                }
-                steps += step.substeps as u64;
-                if let Some(name) = bodies.first_non_finite() {
-                    let msg = format!(
-                        "diverged at t = {:.6e} s: body `{name}` has a non-finite state",
-                        step.time + step.dt
-                    );
-                    p.fail(msg.clone())?;
-                    return Err(msg.into());
-                }
-                publish(&mut p, &bodies, step.window_end)?;
-                p.done(if step.window_end {
-                    monitors(&bodies)
-                } else {
-                    Vec::new()
-                })?;
-            }
-            Command::Output { index, time } => {
-                write_points(&mut centres, &bodies, index, time)?;
-                if let Some(series) = &mut surfaces {
-                    write_surfaces(series, &bodies, index, time)?;
-                }
-                p.done(Vec::new())?;
-            }
-            Command::Stop => break,
         }
     }
-    p.finish(steps)?;
-    Ok(())
+
+    fn advance(&mut self, p: &mut Participant, step: &Advance) -> Result<(), Error> {
+        // The fluid sends one load per window; its sub-steps keep it.
+        if p.is_connected(BODY_LOADS) && self.loads_window != Some(step.window) {
+            let f = p.read_field(BODY_LOADS)?;
+            self.loads = f
+                .chunks_exact(6)
+                .map(|c| Load {
+                    force: Vector3::new(c[0], c[1], c[2]),
+                    torque: Vector3::new(c[3], c[4], c[5]),
+                })
+                .collect();
+            self.loads_window = Some(step.window);
+        }
+        let impulse = match p.is_connected(ATTACHMENT_IMPULSE) {
+            true => Some(p.read_field(ATTACHMENT_IMPULSE)?),
+            false => None,
+        };
+        if p.is_connected(COLLISION_IMPULSE) {
+            self.bodies.apply_momenta(&p.read_field(COLLISION_IMPULSE)?);
+        }
+        let h = step.dt / step.substeps as f64;
+        for k in 0..step.substeps {
+            // The impulse covers the whole step; apply it in the first sub-step.
+            let j = match k {
+                0 => impulse.as_deref().unwrap_or(&[]),
+                _ => &[],
+            };
+            self.bodies.step(h, j, &self.loads);
+        }
+        self.steps += step.substeps as u64;
+        if let Some(name) = self.bodies.first_non_finite() {
+            let t = step.time + step.dt;
+            return Err(
+                format!("diverged at t = {t:.6e} s: body `{name}` has a non-finite state").into(),
+            );
+        }
+        publish(p, &self.bodies, step.window_end)?;
+        p.done(match step.window_end {
+            true => monitors(&self.bodies),
+            false => Vec::new(),
+        })?;
+        Ok(())
+    }
 }

@@ -1,5 +1,5 @@
 //! Orientation as Euler parameters e = (e₀, e₁, e₂, e₃), a unit quaternion
-//! (seed 000 §3.1.1, eqs. 3.2–3.5): no singular angles, unlike the Euler
+//! (dissertation §3.1.1, eqs. 3.2–3.5): no singular angles, unlike the Euler
 //! angles of eq. (2.14).
 
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3, Vector4};

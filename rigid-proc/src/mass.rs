@@ -1,4 +1,4 @@
-//! Mass properties (seed 000 §2.1): mass, centre of mass, the inertia tensor
+//! Mass properties (dissertation §2.1): mass, centre of mass, the inertia tensor
 //! of eq. (2.6) about the centre, and its eigen-decomposition I = QΛQᵀ of
 //! eq. (2.7) into principal moments and principal axes.
 

@@ -1,4 +1,4 @@
-//! Advancing one body over one step (seed 000 §2.4 and §3.1.1): the centre
+//! Advancing one body over one step (dissertation §2.4 and §3.1.1): the centre
 //! of mass under the total force, the rotation by Euler's equations (2.12)
 //! in principal axes with the orientation as Euler parameters (3.4), all
 //! with the fourth-order Runge–Kutta step (3.1); e is renormalised after

@@ -1,4 +1,4 @@
-//! The classical fourth-order Runge–Kutta step of seed 000 eq. (3.1), which
+//! The classical fourth-order Runge–Kutta step of dissertation eq. (3.1), which
 //! advances both the translation and the rotation of a body.
 
 /// u(t + h) for u′ = L(u).

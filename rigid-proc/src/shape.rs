@@ -1,4 +1,4 @@
-//! A body's geometry (seed 000 §2.4: the parachutist or cargo as a finite
+//! A body's geometry (dissertation §2.4: the parachutist or cargo as a finite
 //! rigid body), held as a parry shape placed in the body's own frame.
 //! Geometry stays apart from dynamics: this file knows nothing of motion.
 

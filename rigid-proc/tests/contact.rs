@@ -1,4 +1,4 @@
-//! An oblique, off-centre impact (seed 000 §3.4, eqs. 3.28–3.31 in their
+//! An oblique, off-centre impact (dissertation §3.4, eqs. 3.28–3.31 in their
 //! rigid-body form): the impulse conserves linear and angular momentum, and
 //! with C_R = 1 the kinetic energy, rotation included.
 

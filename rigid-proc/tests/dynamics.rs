@@ -1,5 +1,5 @@
 //! Rigid-body dynamics against closed forms and conservation laws
-//! (seed 000 §2.1 eq. 2.12, §3.1.1 eqs. 3.1–3.6).
+//! (dissertation §2.1 eq. 2.12, §3.1.1 eqs. 3.1–3.6).
 
 use nalgebra::{Matrix3, Vector3};
 use rigid_proc::euler_parameters as ep;

@@ -1,4 +1,4 @@
-//! Mass properties from geometry (seed 000 eqs. 2.5–2.7) against the
+//! Mass properties from geometry (dissertation eqs. 2.5–2.7) against the
 //! textbook formulas for a uniform solid.
 
 use nalgebra::Vector3;

@@ -14,6 +14,15 @@ pub struct Problem {
     pub message: String,
 }
 
+/// Largest magnitude of a physical value in a scenario. No parachute scene
+/// comes near it (the thesis's extreme free stream is 10¹² m/s), and the
+/// product of a few such values (an energy, a box's volume) stays finite in
+/// f64, whose largest number is 1.8·10³⁰⁸.
+pub const MAX_MAGNITUDE: f64 = 1e30;
+/// Smallest positive physical value: its inverse (an inverse mass, a rate)
+/// stays within [`MAX_MAGNITUDE`].
+pub const MIN_POSITIVE: f64 = 1e-30;
+
 pub fn path_string(path: &[Seg]) -> String {
     let mut s = String::new();
     for seg in path {
@@ -66,12 +75,15 @@ impl Checker {
         keys.last().copied().unwrap_or("value").to_string()
     }
 
+    /// A physical value: finite, and of a magnitude whose products stay finite.
     pub fn finite(&mut self, keys: &[&str], v: f64) {
         if !v.is_finite() {
             self.problem(
                 keys,
                 format!("{} = {v} must be a finite number", Self::last(keys)),
             );
+        } else {
+            self.not_huge(keys, v, "");
         }
     }
 
@@ -81,6 +93,8 @@ impl Checker {
                 keys,
                 format!("{} = {v:?} must hold finite numbers", Self::last(keys)),
             );
+        } else if let Some(x) = v.iter().find(|x| x.abs() > MAX_MAGNITUDE) {
+            self.not_huge(keys, *x, "");
         }
     }
 
@@ -92,12 +106,43 @@ impl Checker {
                     .trim_end()
                     .to_string(),
             );
+        } else if v < MIN_POSITIVE {
+            self.problem(
+                keys,
+                format!(
+                    "{} = {v} is below the {MIN_POSITIVE:e} {unit} canopy accepts: its inverse would \
+                     overflow the arithmetic",
+                    Self::last(keys)
+                )
+                .replace("  ", " "),
+            );
+        } else {
+            self.not_huge(keys, v, unit);
         }
     }
 
     pub fn finite_nonneg(&mut self, keys: &[&str], v: f64) {
         if !(v.is_finite() && v >= 0.0) {
             self.problem(keys, format!("{} = {v} must be ≥ 0", Self::last(keys)));
+        } else {
+            self.not_huge(keys, v, "");
+        }
+    }
+
+    /// Refuses a magnitude beyond [`MAX_MAGNITUDE`]: products of a few such
+    /// values (an energy, a box's volume) would overflow to infinity and a
+    /// run would complete with it.
+    fn not_huge(&mut self, keys: &[&str], v: f64, unit: &str) {
+        if v.abs() > MAX_MAGNITUDE {
+            self.problem(
+                keys,
+                format!(
+                    "{} = {v:e} is beyond the {MAX_MAGNITUDE:e} {unit} canopy accepts: products of \
+                     it would overflow the arithmetic",
+                    Self::last(keys)
+                )
+                .replace("  ", " "),
+            );
         }
     }
 

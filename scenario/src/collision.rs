@@ -1,5 +1,5 @@
 //! `[structure.collision]`: structure nodes against the rigid bodies' shapes
-//! (seed 000 §2.5, §3.4: the point-against-body tests of the collision
+//! (dissertation §2.5, §3.4: the point-against-body tests of the collision
 //! module, with the body as one impact zone).
 
 use super::check::Checker;
@@ -18,7 +18,7 @@ pub struct Collision {
     /// step) is put back this far out along the surface normal.
     #[serde(default = "default_thickness")]
     pub thickness: f64,
-    /// C_R of a node–body impact (seed 000 eq. 3.31) for bodies that do not
+    /// C_R of a node–body impact (dissertation eq. 3.31) for bodies that do not
     /// give their own `restitution`; 0, the default, lets a fabric land
     /// without bouncing.
     #[serde(default)]

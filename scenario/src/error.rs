@@ -45,14 +45,7 @@ impl ScenarioError {
             line,
             column,
             key,
-            // toml's messages can span lines; the user gets one line.
-            message: e
-                .message()
-                .trim()
-                .lines()
-                .map(str::trim)
-                .collect::<Vec<_>>()
-                .join("; "),
+            message: toml_message(e, text.len()),
         }
     }
 
@@ -97,3 +90,22 @@ impl fmt::Display for ScenarioError {
 }
 
 impl std::error::Error for ScenarioError {}
+
+/// toml's message on one line (its messages can span lines), or, where it
+/// gives none (a value missing at the end of the text), what is wrong.
+fn toml_message(e: &toml::de::Error, len: usize) -> String {
+    let message = e
+        .message()
+        .trim()
+        .lines()
+        .map(str::trim)
+        .collect::<Vec<_>>()
+        .join("; ");
+    match (message.is_empty(), e.span()) {
+        (false, _) => message,
+        (true, Some(s)) if s.start >= len => {
+            "the file ends where a value should follow: is it cut short?".to_string()
+        }
+        (true, _) => "a value should follow here".to_string(),
+    }
+}

@@ -1,5 +1,5 @@
 //! The keys of the incompressible flow model (`[fluid] model =
-//! "incompressible"`, seed 000 §3.2.2): the box of cells `[fluid.box]` and
+//! "incompressible"`, dissertation §3.2.2): the box of cells `[fluid.box]` and
 //! what each of its sides does to the flow, `[fluid.sides]`.
 
 use super::check::Checker;
@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 pub const MAX_CELLS: f64 = 1e8;
 
 /// Largest Courant number Σ_a|u_a|·Δt/h_a a flow step takes. The explicit
-/// advection of seed 000 eq. (3.18) (WENO5, second-order Adams–Bashforth)
+/// advection of dissertation eq. (3.18) (WENO5, second-order Adams–Bashforth)
 /// was measured to stay stable in a nearly inviscid periodic flow up to
 /// about 0.6, along an axis and diagonally; 0.5 keeps a margin.
 pub const MAX_COURANT: f64 = 0.5;

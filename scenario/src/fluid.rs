@@ -1,11 +1,11 @@
 //! `[fluid]`: the flow model fluid-proc runs:
-//! - `porous-free-stream`: the Darcy–Forchheimer (Ergun) load of seed 003
+//! - `porous-free-stream`: the Darcy–Forchheimer (Ergun) load of the thesis
 //!   eqs. (6)–(10) in a uniform stream, whose keys [`PorousLoad`] also gives
 //!   to `[structure.porous]`;
-//! - `incompressible`: the Navier–Stokes solver of seed 000 §3.2.2 on a box
+//! - `incompressible`: the Navier–Stokes solver of dissertation §3.2.2 on a box
 //!   of cells (`flow.rs`: `[fluid.box]`, `[fluid.sides]`), with the canopy
 //!   in it, porous with the fabric keys of [`FluidSection::fabric`];
-//! - `euler`: the compressible Euler solver of seed 000 §3.2.1 on the same
+//! - `euler`: the compressible Euler solver of dissertation §3.2.1 on the same
 //!   box (`gas.rs`: `gamma`, `cfl`, `[[fluid.regions]]`).
 
 use super::check::Checker;
@@ -63,12 +63,12 @@ const MODEL_KEYS: [(FluidModel, &[&str], &[&str]); 3] = [
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum FluidModel {
-    /// Uniform free stream through a porous canopy, no flow field (seed 003 §2.1).
+    /// Uniform free stream through a porous canopy, no flow field (thesis §2.1).
     #[default]
     PorousFreeStream,
-    /// Incompressible Navier–Stokes on a box of cells (seed 000 §3.2.2).
+    /// Incompressible Navier–Stokes on a box of cells (dissertation §3.2.2).
     Incompressible,
-    /// Compressible Euler equations of an ideal gas (seed 000 §3.2.1).
+    /// Compressible Euler equations of an ideal gas (dissertation §3.2.1).
     Euler,
 }
 
@@ -103,15 +103,15 @@ pub struct FluidSection {
     /// Free-stream velocity of the air [m/s] (porous-free-stream).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub free_stream: Option<[f64; 3]>,
-    /// Fabric porosity ε (0 < ε < 1), seed 003 eqs. (7)–(9) (porous-free-stream;
+    /// Fabric porosity ε (0 < ε < 1), thesis eqs. (7)–(9) (porous-free-stream;
     /// optional for incompressible, with `diameter` and `thickness`: a porous canopy).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub porosity: Option<f64>,
-    /// Characteristic (Ergun) diameter D [m], seed 003 eqs. (7)–(8) (porous-free-stream;
+    /// Characteristic (Ergun) diameter D [m], thesis eqs. (7)–(8) (porous-free-stream;
     /// incompressible, with `porosity`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diameter: Option<f64>,
-    /// Fabric thickness e [m], seed 003 eq. (6) (porous-free-stream;
+    /// Fabric thickness e [m], thesis eq. (6) (porous-free-stream;
     /// incompressible, with `porosity`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub thickness: Option<f64>,
@@ -290,7 +290,7 @@ impl FluidSection {
 }
 
 /// The Darcy–Forchheimer (Ergun) load of a uniform stream through a porous
-/// fabric, seed 003 eqs. (6)–(10). `[fluid]` gives these keys to fluid-proc's
+/// fabric, thesis eqs. (6)–(10). `[fluid]` gives these keys to fluid-proc's
 /// porous free-stream model; `[structure.porous]` gives the same keys to a
 /// structure solver that applies the load itself, with no fluid process.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -304,11 +304,11 @@ pub struct PorousLoad {
     /// Air dynamic viscosity μ [Pa·s].
     #[serde(default = "air_viscosity")]
     pub viscosity: f64,
-    /// Fabric porosity ε (0 < ε < 1), seed 003 eqs. (7)–(9).
+    /// Fabric porosity ε (0 < ε < 1), thesis eqs. (7)–(9).
     pub porosity: f64,
-    /// Characteristic (Ergun) diameter D [m], seed 003 eqs. (7)–(8).
+    /// Characteristic (Ergun) diameter D [m], thesis eqs. (7)–(8).
     pub diameter: f64,
-    /// Fabric thickness e [m], seed 003 eq. (6).
+    /// Fabric thickness e [m], thesis eq. (6).
     pub thickness: f64,
 }
 

@@ -1,5 +1,5 @@
 //! The keys of the compressible Euler model (`[fluid] model = "euler"`,
-//! seed 000 eqs. 2.20–2.24): the ratio of specific heats, the Courant
+//! dissertation eqs. 2.20–2.24): the ratio of specific heats, the Courant
 //! number of a step, and the initial state region by region
 //! (`[[fluid.regions]]`). The box and its sides are the flow keys of
 //! `flow.rs`.

@@ -1,5 +1,5 @@
 //! `[structure] integrator = "…"` and the parameters of the schemes that have any
-//! (seed 003 §2.4).
+//! (thesis §2.4).
 
 use super::check::Checker;
 use serde::{Deserialize, Serialize};
@@ -8,33 +8,33 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Integrator {
-    /// Explicit (forward) Euler, seed 003 §2.4.1.
+    /// Explicit (forward) Euler, thesis §2.4.1.
     ExplicitEuler,
-    /// Euler–Cromer / symplectic Euler, seed 003 eqs. (15)–(16).
+    /// Euler–Cromer / symplectic Euler, thesis eqs. (15)–(16).
     EulerCromer,
-    /// Euler–Richardson (midpoint), seed 003 eqs. (17)–(22).
+    /// Euler–Richardson (midpoint), thesis eqs. (17)–(22).
     EulerRichardson,
-    /// Improved explicit Euler (Heun), seed 003 eqs. (23)–(24).
+    /// Improved explicit Euler (Heun), thesis eqs. (23)–(24).
     ImprovedEuler,
-    /// Newmark with β, γ from `[structure.newmark]`, seed 003 eqs. (25)–(26).
+    /// Newmark with β, γ from `[structure.newmark]`, thesis eqs. (25)–(26).
     Newmark,
     /// Newmark's average-acceleration preset, β = 1/4, γ = 1/2.
     NewmarkAverageAcceleration,
     /// Newmark's linear-acceleration preset, β = 1/6, γ = 1/2.
     NewmarkLinearAcceleration,
-    /// Velocity Verlet, seed 003 eqs. (37)–(40).
+    /// Velocity Verlet, thesis eqs. (37)–(40).
     #[default]
     VelocityVerlet,
-    /// Hilber–Hughes–Taylor α, seed 003 §2.4.7, α from `[structure.hht]`.
+    /// Hilber–Hughes–Taylor α, thesis §2.4.7, α from `[structure.hht]`.
     Hht,
-    /// Classical fourth-order Runge–Kutta, seed 003 eqs. (42)–(51).
+    /// Classical fourth-order Runge–Kutta, thesis eqs. (42)–(51).
     Rk4,
-    /// Kang's fast approximated implicit method, seed 003 eqs. (52)–(57).
+    /// Kang's fast approximated implicit method, thesis eqs. (52)–(57).
     Kang,
     /// Backward Euler with Newton iterations and conjugate gradients (Baraff & Witkin 1998).
     BackwardEuler,
     /// Adaptive Dormand–Prince 5(4), tolerance from `[structure.adaptive]`
-    /// (beyond the seeds: Dormand & Prince 1980).
+    /// (beyond the dissertation and the thesis: Dormand & Prince 1980).
     DormandPrince,
 }
 
@@ -92,7 +92,7 @@ impl Integrator {
     }
 }
 
-/// `[structure.newmark]`: β and γ of seed 003 eqs. (25)–(26) for `integrator = "newmark"`.
+/// `[structure.newmark]`: β and γ of thesis eqs. (25)–(26) for `integrator = "newmark"`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct NewmarkParams {

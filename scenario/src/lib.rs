@@ -167,7 +167,7 @@ impl Participants {
 impl Scenario {
     /// Read, parse and check a scenario file.
     pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
-        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::io(path, &e))?;
+        let text = read_text(path)?;
         let mut scenario = Scenario::parse(path, &text)?;
         // Files a scenario names are relative to it; read them now, so a bad
         // mesh stops the run before any process starts.
@@ -240,6 +240,18 @@ impl Scenario {
             );
         }
         c.finite_nonneg(&["run", "output_interval"], r.output_interval);
+        let span = r.end_time - r.start_time;
+        if r.output_interval > 0.0 && span / r.output_interval > MAX_WINDOWS {
+            c.problem(
+                &["run", "output_interval"],
+                format!(
+                    "output_interval = {:e} s asks for more than {MAX_WINDOWS:e} outputs from \
+                     start_time to end_time (0 writes the first and last state only)",
+                    r.output_interval
+                )
+                .replace("  ", " "),
+            );
+        }
         let k = &self.coupling;
         c.positive(&["coupling", "window"], k.window, "s");
         if k.window > 0.0 && (r.end_time - r.start_time) / k.window > MAX_WINDOWS {
@@ -379,6 +391,27 @@ impl Scenario {
             s.check(c);
         }
     }
+}
+
+/// Longest scenario file read [bytes]: a scenario is a page of TOML.
+pub const MAX_SCENARIO_BYTES: u64 = 1 << 24;
+
+/// The text of the scenario file at `path`, which must be a regular file
+/// (a FIFO or a device would block the reader or never end) of at most
+/// [`MAX_SCENARIO_BYTES`].
+pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
+    let meta = std::fs::metadata(path).map_err(|e| ScenarioError::io(path, &e))?;
+    let refuse = |why: &str| ScenarioError::io(path, &std::io::Error::other(why.to_string()));
+    if !meta.is_file() {
+        return Err(refuse("it is not a regular file"));
+    }
+    if meta.len() > MAX_SCENARIO_BYTES {
+        return Err(refuse(&format!(
+            "it holds {} bytes, more than a scenario's {MAX_SCENARIO_BYTES}",
+            meta.len()
+        )));
+    }
+    std::fs::read_to_string(path).map_err(|e| ScenarioError::io(path, &e))
 }
 
 /// Whether the fluid can run on `ranks` ranks: a model split among ranks

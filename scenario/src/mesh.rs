@@ -1,5 +1,5 @@
 //! Closed triangle meshes read from Wavefront OBJ files, for rigid bodies of
-//! any shape (a parachutist or cargo, seed 000 §2.4). Written by hand rather
+//! any shape (a parachutist or cargo, dissertation §2.4). Written by hand rather
 //! than with an OBJ crate so that every problem names the line it is on.
 //!
 //! Read: `v x y z` vertices and `f i j k …` faces (1-based or negative
@@ -8,7 +8,7 @@
 //! The mesh must be closed and consistently oriented — every edge shared by
 //! exactly two faces, once in each direction — with its faces pointing out,
 //! because its volume, mass and inertia come from the divergence theorem
-//! (seed 000 eq. 2.6 over the enclosed solid).
+//! (dissertation eq. 2.6 over the enclosed solid).
 
 use std::collections::HashMap;
 use std::fmt;
@@ -50,6 +50,14 @@ impl TriangleMesh {
             line,
             message,
         };
+        let meta = std::fs::metadata(path)
+            .map_err(|e| fail(None, format!("cannot read the mesh: {e}")))?;
+        if !meta.is_file() {
+            return Err(fail(
+                None,
+                "cannot read the mesh: it is not a regular file".into(),
+            ));
+        }
         let text = std::fs::read_to_string(path)
             .map_err(|e| fail(None, format!("cannot read the mesh: {e}")))?;
         let mesh = TriangleMesh::parse_obj(&text).map_err(|(l, m)| fail(l, m))?;

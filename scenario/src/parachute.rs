@@ -1,5 +1,5 @@
 //! `[structure.parachute]` and `[structure.cloth]`: the generated structures of
-//! seed 000 §2.3, §4.2 (parachutes with suspension lines) and §4.3 (cloth).
+//! dissertation §2.3, §4.2 (parachutes with suspension lines) and §4.3 (cloth).
 
 use super::check::Checker;
 use super::structure::Fabric;
@@ -13,16 +13,16 @@ pub const INCH: f64 = 0.0254;
 #[serde(rename_all = "kebab-case")]
 pub enum ParachuteModel {
     /// C-9 personnel parachute: 28 ft flat circular, 28 gores and lines, no vent
-    /// (seed 000 §4.2.2), 7 m lines (§4.2.3).
+    /// (dissertation §4.2.2), 7 m lines (§4.2.3).
     C9,
     /// T-10: 35 ft flat circular, 30 gores and lines, 20-inch vent.
     T10,
     /// G-11 cargo parachute: 100 ft flat circular, 120 gores and lines.
     G11,
-    /// Intruder (seed 000 table 5.2 names it, gives no geometry): assumed a small
+    /// Intruder (dissertation table 5.2 names it, gives no geometry): assumed a small
     /// 16-gore flat circular canopy of 4.5 m with a 0.3 m vent.
     Intruder,
-    /// T-11 (seed 000 table 5.2 names it, gives no geometry): assumed a flat
+    /// T-11 (dissertation table 5.2 names it, gives no geometry): assumed a flat
     /// cross of 35 ft span, a central square and four square arms, 28 lines
     /// spread along the four arm ends.
     T11,
@@ -66,7 +66,7 @@ impl CanopyGeometry {
 }
 
 impl ParachuteModel {
-    /// The preset, None for `custom`. Where the seeds give no line length we assume
+    /// The preset, None for `custom`. Where the dissertation gives no line length we assume
     /// 0.82·D₀, the C-9's ratio (7 m / 8.53 m).
     pub fn geometry(self) -> Option<CanopyGeometry> {
         let g = |d: f64, gores, vent, lines: Option<f64>| CanopyGeometry {
@@ -128,13 +128,13 @@ pub struct Parachute {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body: Option<String>,
     /// … at this point of the body's own frame [m] (default its origin): where
-    /// the suspension lines meet the parachutist or cargo (seed 000 fig. 2.5).
+    /// the suspension lines meet the parachutist or cargo (dissertation fig. 2.5).
     #[serde(default)]
     pub body_point: [f64; 3],
-    /// Uneven lines (seed 000 §4.2.3).
+    /// Uneven lines (dissertation §4.2.3).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub line_changes: Vec<LineChange>,
-    /// Breaking lines (seed 000 §4.2.3).
+    /// Breaking lines (dissertation §4.2.3).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub line_breaks: Vec<LineBreak>,
 }
@@ -372,7 +372,7 @@ pub struct Cloth {
     #[serde(default)]
     pub plane: ClothPlane,
     pub fabric: Fabric,
-    /// Springs [N/m] between the far vertices of adjacent triangles (seed 000, end of §2.3).
+    /// Springs [N/m] between the far vertices of adjacent triangles (the dissertation, end of §2.3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bending_stiffness: Option<f64>,
     /// What is held in place.

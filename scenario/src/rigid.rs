@@ -1,4 +1,4 @@
-//! `[rigid]`: the bodies rigid-proc moves (seed 000 §2.1, §2.4, §3.1.1, §3.4):
+//! `[rigid]`: the bodies rigid-proc moves (dissertation §2.1, §2.4, §3.1.1, §3.4):
 //! mass points, or finite bodies with a shape whose mass, centre of mass and
 //! inertia come from their geometry.
 
@@ -15,7 +15,7 @@ pub struct RigidSection {
     /// Gravitational acceleration [m/s²].
     #[serde(default = "default_gravity")]
     pub gravity: [f64; 3],
-    /// Coefficient of restitution C_R of seed 000 eq. (3.31) for contacts
+    /// Coefficient of restitution C_R of dissertation eq. (3.31) for contacts
     /// between bodies that do not give their own.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub restitution: Option<f64>,
@@ -54,7 +54,7 @@ pub struct BodySpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub restitution: Option<f64>,
     /// Linear viscous drag b [N·s/m]: force −b·v. For a pendulum of length L,
-    /// b = c/L² gives the damping torque −c·θ̇ of seed 003 eq. (61).
+    /// b = c/L² gives the damping torque −c·θ̇ of thesis eq. (61).
     #[serde(default)]
     pub linear_damping: f64,
 }
@@ -63,7 +63,7 @@ pub struct BodySpec {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Motion {
-    /// Moved by its loads: Newton's law and Euler's equations (seed 000 eq. 2.12).
+    /// Moved by its loads: Newton's law and Euler's equations (dissertation eq. 2.12).
     #[default]
     Dynamic,
     /// Held in place; infinitely heavy in contacts.
@@ -198,7 +198,7 @@ impl RigidSection {
                             c.problem(
                                 &["restitution"],
                                 "bodies with shapes can touch: give their coefficient of \
-                                 restitution here or as [rigid] restitution (C_R of seed 000 eq. 3.31)"
+                                 restitution here or as [rigid] restitution (C_R of dissertation eq. 3.31)"
                                     .into(),
                             )
                         }

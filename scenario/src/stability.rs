@@ -1,7 +1,7 @@
 //! How large a step each scheme allows on a spring-mass network of highest
 //! angular frequency ω_max: its stability interval on undamped oscillation,
 //! ω·h ≤ y*, and from it the sub-step count n_s a coupling window needs. The
-//! structure program computes ω_max (seed 000 eq. 3.7) from its model; the
+//! structure program computes ω_max (dissertation eq. 3.7) from its model; the
 //! coupler turns it into n_s here, for `coupler check`, the run's warning and
 //! the manifest.
 
@@ -13,8 +13,8 @@ pub const OMEGA_MAX_FLAG: &str = "--omega-max";
 /// The monitor in which the structure reports its ω_max [rad/s].
 pub const OMEGA_MAX_MONITOR: &str = "omega_max";
 
-/// Seed 000 §3.1.2: ω_max·h < 0.1 "for stability and accuracy", the rule
-/// behind the seed's choice of sub-steps.
+/// Dissertation §3.1.2: ω_max·h < 0.1 "for stability and accuracy", the rule
+/// behind the dissertation's choice of sub-steps.
 pub const SEED_OMEGA_H: f64 = 0.1;
 
 /// Where a scheme is stable on an undamped linear oscillation of angular
@@ -26,7 +26,7 @@ pub enum Interval {
     /// Stable for ω·h ≤ the value given.
     Bounded(f64),
     /// Unstable at every step: the amplification exceeds 1 on the whole
-    /// imaginary axis, so energy grows however small h is (seed 003 §2.5.2).
+    /// imaginary axis, so energy grows however small h is (thesis §2.5.2).
     Empty,
 }
 
@@ -35,7 +35,7 @@ pub enum Interval {
 ///   and Heun (improved Euler) |1 + iy − y²/2|² = 1 + y⁴/4: empty;
 /// - symplectic Euler (Euler–Cromer) and velocity Verlet: y ≤ 2;
 /// - RK4: |R(iy)|² = 1 − y⁶/72 + y⁸/576 ≤ 1 for y ≤ 2√2;
-/// - Newmark (seed 003 eq. 27, for α = 0): unconditional for 2β ≥ γ ≥ ½,
+/// - Newmark (thesis eq. 27, for α = 0): unconditional for 2β ≥ γ ≥ ½,
 ///   else y ≤ 1/√(γ/2 − β); HHT's parameters satisfy 2β ≥ γ;
 /// - backward Euler: A-stable; Kang's method: unconditionally stable (Kang et al. 2000);
 /// - adaptive Dormand–Prince: its step control takes internal steps as small as needed.
@@ -81,9 +81,9 @@ pub struct Estimate {
     /// the scheme is unconditionally stable, 0 when its interval is empty.
     pub stable_dt: Option<f64>,
     /// Smallest n_s with ω_max·window/n_s within the scheme's interval: 1 when
-    /// unconditional; for an empty interval, the seed's ω_max·h < 0.1.
+    /// unconditional; for an empty interval, the dissertation's ω_max·h < 0.1.
     pub n_s: u64,
-    /// Smallest n_s with ω_max·h < 0.1, the seed's rule for any scheme.
+    /// Smallest n_s with ω_max·h < 0.1, the dissertation's rule for any scheme.
     pub n_s_seed: u64,
 }
 
@@ -106,7 +106,7 @@ pub fn estimate(omega_max: f64, window: f64, scheme: Scheme) -> Estimate {
 
 /// Why `substeps` sub-steps of a window are too few for `scheme`, if they
 /// are: the structure step lies above the scheme's stability limit, or, for a
-/// scheme with no interval, above the seed's ω_max·h < 0.1.
+/// scheme with no interval, above the dissertation's ω_max·h < 0.1.
 pub fn warning(est: &Estimate, window: f64, substeps: u32, integrator: &str) -> Option<String> {
     let dt = window / substeps as f64;
     let y = est.omega_max * dt;
@@ -114,7 +114,7 @@ pub fn warning(est: &Estimate, window: f64, substeps: u32, integrator: &str) -> 
         Some(limit) if limit > 0.0 => (dt > limit).then(|| {
             format!(
                 "the structure step Δt_s = {dt:e} s is above {limit:.3e} s, the step {integrator} \
-                 is sure to be stable at (ω_max·Δt_s = {y:.3} with ω_max = {:.4e} rad/s, seed 000 \
+                 is sure to be stable at (ω_max·Δt_s = {y:.3} with ω_max = {:.4e} rad/s, the dissertation \
                  eq. 3.7's upper bound); structure_substeps = {} or more guarantees it",
                 est.omega_max, est.n_s
             )
@@ -122,7 +122,7 @@ pub fn warning(est: &Estimate, window: f64, substeps: u32, integrator: &str) -> 
         Some(_) => (y > SEED_OMEGA_H).then(|| {
             format!(
                 "{integrator} gains energy at every step on undamped oscillation, and \
-                 ω_max·Δt_s = {y:.3} (ω_max = {:.4e} rad/s, seed 000 eq. 3.7) is above the seed's 0.1; \
+                 ω_max·Δt_s = {y:.3} (ω_max = {:.4e} rad/s, dissertation eq. 3.7) is above the dissertation's 0.1; \
                  structure_substeps = {} or more keeps ω_max·Δt_s < 0.1",
                 est.omega_max, est.n_s_seed
             )

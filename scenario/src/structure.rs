@@ -1,4 +1,4 @@
-//! `[structure]`: the spring-mass canopy and strings (seed 003 §2.1, §3.2).
+//! `[structure]`: the spring-mass canopy and strings (thesis §2.1, §3.2).
 
 use super::check::Checker;
 pub use super::collision::Collision;
@@ -41,13 +41,13 @@ pub struct StructureSection {
     pub gravity: [f64; 3],
     #[serde(default)]
     pub damping: Damping,
-    /// Viscous damping coefficient c [N·s/m] of seed 000 eq. (2.38), for `damping = "viscous"`.
+    /// Viscous damping coefficient c [N·s/m] of dissertation eq. (2.38), for `damping = "viscous"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping_coefficient: Option<f64>,
-    /// The annulus canopy of seed 003 §2.2 / §3.2, outer rim fixed.
+    /// The annulus canopy of thesis §2.2 / §3.2, outer rim fixed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub annulus: Option<Annulus>,
-    /// A parachute canopy with suspension lines (seed 000 §4.2).
+    /// A parachute canopy with suspension lines (dissertation §4.2).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub parachute: Option<Parachute>,
     /// A rectangular cloth.
@@ -63,11 +63,11 @@ pub struct StructureSection {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub springs: Vec<SpringSpec>,
     /// The Darcy–Forchheimer load of a free stream through the canopy
-    /// (seed 003 eqs. 6–10), applied by the structure solver itself: the
+    /// (thesis eqs. 6–10), applied by the structure solver itself: the
     /// porous scenes without a fluid process.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub porous: Option<PorousLoad>,
-    /// Free nodes against the rigid bodies' shapes (seed 000 §2.5, §3.4).
+    /// Free nodes against the rigid bodies' shapes (dissertation §2.5, §3.4).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub collision: Option<Collision>,
 }
@@ -77,9 +77,9 @@ pub struct StructureSection {
 pub enum Damping {
     #[default]
     None,
-    /// Viscous force k_ij·Δt_s·(v_j − v_i) along every spring, seed 003 eq. (68).
+    /// Viscous force k_ij·Δt_s·(v_j − v_i) along every spring, thesis eq. (68).
     RelativeVelocity,
-    /// Dashpot c·V⁽ⁱⁿᵗ⁾ of seed 000 eq. (2.38), V⁽ⁱⁿᵗ⁾ taken as the rate of change
+    /// Dashpot c·V⁽ⁱⁿᵗ⁾ of dissertation eq. (2.38), V⁽ⁱⁿᵗ⁾ taken as the rate of change
     /// of each spring's length, with c = `damping_coefficient`.
     Viscous,
 }
@@ -87,11 +87,11 @@ pub enum Damping {
 /// How a generated fabric resists stretching: exactly one of the three.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Elasticity {
-    /// Uniform spring stiffness k [N/m] (seed 003 §3.2).
+    /// Uniform spring stiffness k [N/m] (thesis §3.2).
     Uniform(f64),
-    /// k = A·E/l⁰ per edge (seed 003 eq. 71).
+    /// k = A·E/l⁰ per edge (thesis eq. 71).
     Fibre(Fibre),
-    /// Delingette triangular springs (seed 000 eqs. 2.29–2.37).
+    /// Delingette triangular springs (dissertation eqs. 2.29–2.37).
     Membrane(Membrane),
 }
 
@@ -120,7 +120,7 @@ pub struct Membrane {
 pub struct Annulus {
     /// Inner (vent) radius R_int [m].
     pub inner_radius: f64,
-    /// Outer radius R_ext [m]; the rim nodes are fixed (seed 003 §2.2).
+    /// Outer radius R_ext [m]; the rim nodes are fixed (thesis §2.2).
     pub outer_radius: f64,
     /// Number of node rings from R_int to R_ext.
     #[serde(default = "default_rings")]
@@ -142,13 +142,13 @@ pub struct Annulus {
 pub struct Fabric {
     /// Mass per area [kg/m²], lumped to the nodes.
     pub areal_density: f64,
-    /// Uniform spring stiffness k [N/m] (seed 003 §3.2) …
+    /// Uniform spring stiffness k [N/m] (thesis §3.2) …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stiffness: Option<f64>,
-    /// … or fibres with k = A·E/l⁰ (seed 003 eq. 71) …
+    /// … or fibres with k = A·E/l⁰ (thesis eq. 71) …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fibre: Option<Fibre>,
-    /// … or a Delingette membrane (seed 000 eqs. 2.29–2.37).
+    /// … or a Delingette membrane (dissertation eqs. 2.29–2.37).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub membrane: Option<Membrane>,
 }
@@ -231,13 +231,13 @@ pub struct StringSpec {
     pub stiffness: f64,
     /// Rest length l⁰ [m].
     pub rest_length: f64,
-    /// Compressive tolerance eps of seed 003 eq. (3) [m]: no force until stretched beyond it.
+    /// Compressive tolerance eps of thesis eq. (3) [m]: no force until stretched beyond it.
     #[serde(default)]
     pub compressive_tolerance: f64,
 }
 
 /// Where a structure node is attached to a rigid body: the body's name and
-/// the point in the body's own frame [m] (seed 000 fig. 2.5).
+/// the point in the body's own frame [m] (dissertation fig. 2.5).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AttachmentSpec<'a> {
     pub body: &'a str,
@@ -262,7 +262,7 @@ pub struct PointSpec {
     pub fixed: bool,
 }
 
-/// A Hookean spring between two named points (seed 003 eq. 67).
+/// A Hookean spring between two named points (thesis eq. 67).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpringSpec {
@@ -332,7 +332,7 @@ impl StructureSection {
             super::integrator::check_params(c, &self.newmark, &self.hht, &self.newton, &self.adaptive);
             match (self.damping, self.damping_coefficient) {
                 (Damping::Viscous, None) => c.problem(&["damping_coefficient"],
-                    "damping = \"viscous\" needs damping_coefficient = c (N·s/m, seed 000 eq. 2.38)".into()),
+                    "damping = \"viscous\" needs damping_coefficient = c (N·s/m, dissertation eq. 2.38)".into()),
                 (Damping::Viscous, Some(d)) => c.finite_nonneg(&["damping_coefficient"], d),
                 (_, Some(_)) => c.problem(&["damping_coefficient"],
                     "damping_coefficient is used only with damping = \"viscous\"".into()),

@@ -89,7 +89,7 @@ fn scheme_of(i: Scheme) -> scenario::structure::Scheme {
     section.scheme()
 }
 
-/// ω_max of seed 000 eq. (3.7), node by node (Gershgorin's bound on M⁻¹K).
+/// ω_max of dissertation eq. (3.7), node by node (Gershgorin's bound on M⁻¹K).
 fn omega_max(m: &Model) -> f64 {
     structure_proc::stability::omega_max(&m.inv_mass, &m.couplings)
 }

@@ -1,4 +1,4 @@
-//! The annulus canopy of seed 003 §2.2 and §3.2: a flat ring R_int ≤ r ≤ R_ext
+//! The annulus canopy of thesis §2.2 and §3.2: a flat ring R_int ≤ r ≤ R_ext
 //! with the outer rim fixed.
 //!
 //! The seed meshed it with distmesh (703 nodes, 1280 triangles). Here nodes sit

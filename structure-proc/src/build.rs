@@ -118,7 +118,7 @@ fn hold(m: &mut Model, nodes: &[usize]) {
     }
 }
 
-/// A parachute (seed 000 §4.2): canopy, gore seams, suspension lines to a
+/// A parachute (dissertation §4.2): canopy, gore seams, suspension lines to a
 /// confluence that is a payload mass point or a rigid body's attachment point.
 fn add_parachute(
     m: &mut Model,
@@ -221,7 +221,7 @@ fn add_parachute(
 }
 
 /// A rectangular cloth with the chosen edges or corners held, and optional
-/// bending springs between the far vertices of adjacent triangles (seed 000, end of §2.3).
+/// bending springs between the far vertices of adjacent triangles (the dissertation, end of §2.3).
 fn add_cloth(m: &mut Model, c: &Cloth) -> Result<(), MeshError> {
     let (nx, ny) = (c.nodes_x as usize, c.nodes_y as usize);
     let mut mesh = rectangle(c.width, c.depth, nx, ny, [0.0; 3]);
@@ -301,8 +301,8 @@ fn lump_areal_mass(m: &mut Model, triangles: &[[usize; 3]], areal_density: f64) 
     }
 }
 
-/// Springs on the edges of `triangles` (uniform k, or k = A·E/l⁰ of seed 003
-/// eq. 71), or Delingette triangular springs (seed 000 eqs. 2.29–2.32).
+/// Springs on the edges of `triangles` (uniform k, or k = A·E/l⁰ of the thesis
+/// eq. 71), or Delingette triangular springs (dissertation eqs. 2.29–2.32).
 fn add_fabric(m: &mut Model, triangles: &[[usize; 3]], e: Elasticity) -> Result<(), MeshError> {
     if let Elasticity::Membrane(mb) = e {
         let (lambda, mu) = lame(mb.young_modulus, mb.poisson_ratio, mb.thickness);
@@ -381,8 +381,8 @@ fn add_network(m: &mut Model, s: &StructureSection) -> Result<(), MeshError> {
     Ok(())
 }
 
-/// One damper per spring, string and membrane edge: c = k·Δt_s for seed 003
-/// eq. (68), c = damping_coefficient for seed 000 eq. (2.38).
+/// One damper per spring, string and membrane edge: c = k·Δt_s for the thesis
+/// eq. (68), c = damping_coefficient for dissertation eq. (2.38).
 fn add_dampers(m: &mut Model, s: &StructureSection, dt: f64) {
     let coefficient = |k: f64| match s.damping {
         Damping::RelativeVelocity => k * dt,

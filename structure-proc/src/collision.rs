@@ -1,5 +1,5 @@
 //! Free structure nodes against the rigid bodies' shapes: the point-against-
-//! body tests of seed 000 §3.4, each body one impact zone that takes the
+//! body tests of dissertation §3.4, each body one impact zone that takes the
 //! reaction of every impulse it gives (§2.5).
 //!
 //! After each structure step, a node that ends closer to a body's surface
@@ -7,7 +7,7 @@
 //! step (a swept test from its start position, so thin bodies are not
 //! tunnelled through) is put back `thickness` out along the surface normal.
 //! If it still approaches, it gets the impulse along the normal
-//! j = −(1 + C_R)·vₙ / (1/mᵢ + 1/m_b + n·((I_b⁻¹(r×n))×r)) — the seed's
+//! j = −(1 + C_R)·vₙ / (1/mᵢ + 1/m_b + n·((I_b⁻¹(r×n))×r)) — the dissertation's
 //! eqs. (3.28) + (3.31) with the body's rotational terms, the same impulse
 //! rigid–rigid contacts use — and the body gets −j at the contact point.
 //!

@@ -1,4 +1,4 @@
-//! Flat cross (cruciform) canopies, the T-11 of seed 000 table 5.2: a central
+//! Flat cross (cruciform) canopies, the T-11 of dissertation table 5.2: a central
 //! square of side a = D₀/3 and four square arms, so the tip-to-tip span is D₀.
 //! A square grid of `cells` cells per a covers the cross; each cell is split
 //! into two triangles along alternating diagonals, so the mesh has no

@@ -14,7 +14,7 @@ use crate::integrators::{Integrator, StepError};
 use crate::output::Output;
 use crate::stability::{omega_max, OMEGA_MAX_FLAG, OMEGA_MAX_MONITOR};
 use crate::{build_model, Model, NodeKind};
-use participant::{Cadence, Command, Declaration, Monitor, Participant};
+use participant::{Advance, Cadence, Command, Declaration, FieldView, Monitor, Participant};
 use scenario::structure::StructureSection;
 use scenario::Scenario;
 
@@ -37,7 +37,7 @@ pub trait Stepper {
     }
 }
 
-/// One of the integrators of seed 003 §2.4 (or backward Euler) as a stepper.
+/// One of the integrators of thesis §2.4 (or backward Euler) as a stepper.
 pub struct Scheme {
     pub name: &'static str,
     pub integrator: Box<dyn Integrator>,
@@ -93,7 +93,7 @@ pub fn main<S: Stepper>(
     }
 }
 
-/// The ω_max bound (seed 000 eq. 3.7) of the model the scenario at `path`
+/// The ω_max bound (dissertation eq. 3.7) of the model the scenario at `path`
 /// builds, if the program's stepper is the scenario's integrator.
 fn omega_max_of<S: Stepper>(
     path: &std::path::Path,
@@ -218,111 +218,155 @@ pub fn run<S: Stepper>(
         .structure
         .as_ref()
         .ok_or("the scenario has no [structure] section")?;
-    let mut m = build_model(
+    let m = build_model(
         section,
         scenario.rigid.as_ref(),
         scenario.coupling.structure_dt(),
     )?;
-    let mut obstacles = match (&section.collision, &scenario.rigid) {
+    let obstacles = match (&section.collision, &scenario.rigid) {
         (Some(spec), Some(rigid)) => Some(Obstacles::new(rigid, spec)?),
         _ => None,
     };
-    let mut watch = Watch::new(&m, &scenario);
-    let mut stepper = make(section, &m)?;
+    let watch = Watch::new(&m, &scenario);
+    let stepper = make(section, &m)?;
     let omega_max = stepper
         .is_scenario_integrator()
         .then(|| omega_max(&m.inv_mass, &m.couplings));
     let first = monitors(&m, omega_max, obstacles.as_ref());
     let n_s = scenario.coupling.structure_substeps;
     let mut p = joining.declare(declaration(&m, obstacles.as_ref(), &first, n_s))?;
-    let mut output = Output::new(p.run_dir(), &m);
-    let mut substeps = 0u64;
-    let mut pressure = None;
-    let mut pressure_window = None;
-    loop {
-        match p.next_command()? {
-            Command::Initialize => {
-                publish_canopy(&mut p, &m, true)?;
-                p.done(monitors(&m, omega_max, obstacles.as_ref()))?;
-            }
-            Command::Advance(step) => {
-                // The fluid publishes one pressure per window; impulse sub-steps
-                // after the first keep using it.
-                if p.is_connected(CANOPY_PRESSURE) && pressure_window != Some(step.window) {
-                    pressure = Some(p.read_field(CANOPY_PRESSURE)?);
-                    pressure_window = Some(step.window);
+    let mut d = Driven {
+        output: Output::new(p.run_dir(), &m),
+        m,
+        obstacles,
+        watch,
+        stepper,
+        omega_max,
+        substeps: 0,
+        pressure: None,
+        pressure_window: None,
+    };
+    p.reporting(|p| d.drive(p))?;
+    drop(d.pressure.take());
+    p.finish(d.substeps)?;
+    Ok(())
+}
+
+/// A structure model taking part in a run: its stepper, collision
+/// obstacles, divergence watch and output, and the pressure the fluid sent
+/// for the current window.
+struct Driven<S> {
+    m: Model,
+    obstacles: Option<Obstacles>,
+    watch: Watch,
+    stepper: S,
+    omega_max: Option<f64>,
+    output: Output,
+    substeps: u64,
+    pressure: Option<FieldView>,
+    pressure_window: Option<u64>,
+}
+
+impl<S: Stepper> Driven<S> {
+    fn monitors(&self) -> Vec<Monitor> {
+        monitors(&self.m, self.omega_max, self.obstacles.as_ref())
+    }
+
+    /// The schedule, to its end.
+    fn drive(&mut self, p: &mut Participant) -> Result<(), Error> {
+        loop {
+            match p.next_command()? {
+                Command::Initialize => {
+                    publish_canopy(p, &self.m, true)?;
+                    p.done(self.monitors())?;
                 }
-                if p.is_connected(ATTACHMENT_STATE) {
-                    let state = p.read_field(ATTACHMENT_STATE)?;
-                    m.set_attachments(&state);
-                    for a in &m.attachments {
-                        let speed = a.v0.iter().map(|c| c * c).sum::<f64>().sqrt();
-                        watch.raise(speed, "the fastest rigid body");
-                    }
-                }
-                if let Some(o) = &mut obstacles {
-                    o.set_states(&p.read_field(COLLISION_BODIES)?);
-                }
-                let loads = Loads {
-                    pressure: pressure.as_deref().unwrap_or(&[]),
-                };
-                m.dt = step.dt / step.substeps as f64;
-                m.time = step.time;
-                let mut failure = None;
-                for k in 0..step.substeps {
-                    if let Some(o) = &mut obstacles {
-                        o.begin_step(&m.x);
-                    }
-                    if let Err(e) = stepper.step(&mut m, &loads) {
-                        let t = step.time + k as f64 * m.dt;
-                        failure = Some(format!("{} failed at t = {t:.6e} s: {e}", stepper.name()));
-                        break;
-                    }
-                    if let Some(o) = &mut obstacles {
-                        o.resolve(&mut m.x, &mut m.v, &m.inv_mass, m.dt);
-                    }
-                    for event in m.break_lines() {
-                        eprintln!("{event}");
-                    }
-                }
-                substeps += step.substeps as u64;
-                if failure.is_none() {
-                    if let Some(why) = watch.check(&m) {
-                        failure = Some(format!(
-                            "diverged at t = {:.6e} s: {why}",
-                            step.time + step.dt
-                        ));
-                    }
-                }
-                if let Some(msg) = failure {
-                    p.fail(msg.clone())?;
-                    return Err(msg.into());
-                }
-                let n_att = m.attachments.len();
-                p.write_field(ATTACHMENT_IMPULSE, 3 * n_att, |out| {
-                    for (o, a) in out.chunks_exact_mut(3).zip(&m.attachments) {
-                        o.copy_from_slice(&a.impulse);
-                    }
-                })?;
-                if let Some(o) = &obstacles {
-                    p.write_field(COLLISION_IMPULSE, o.momenta.len(), |out| {
-                        out.copy_from_slice(&o.momenta)
-                    })?;
-                }
-                if step.window_end {
-                    publish_canopy(&mut p, &m, false)?;
-                    p.done(monitors(&m, omega_max, obstacles.as_ref()))?;
-                } else {
+                Command::Advance(step) => self.advance(p, &step)?,
+                Command::Output { index, time } => {
+                    self.output.write(&self.m, index, time)?;
                     p.done(Vec::new())?;
                 }
+                Command::Stop => return Ok(()),
             }
-            Command::Output { index, time } => {
-                output.write(&m, index, time)?;
-                p.done(Vec::new())?;
-            }
-            Command::Stop => break,
         }
     }
-    p.finish(substeps)?;
-    Ok(())
+
+    fn advance(&mut self, p: &mut Participant, step: &Advance) -> Result<(), Error> {
+        self.read_inputs(p, step)?;
+        if let Some(why) = self.substeps(step) {
+            return Err(why.into());
+        }
+        let m = &self.m;
+        p.write_field(ATTACHMENT_IMPULSE, 3 * m.attachments.len(), |out| {
+            for (o, a) in out.chunks_exact_mut(3).zip(&m.attachments) {
+                o.copy_from_slice(&a.impulse);
+            }
+        })?;
+        if let Some(o) = &self.obstacles {
+            p.write_field(COLLISION_IMPULSE, o.momenta.len(), |out| {
+                out.copy_from_slice(&o.momenta)
+            })?;
+        }
+        if !step.window_end {
+            return Ok(p.done(Vec::new())?);
+        }
+        publish_canopy(p, &self.m, false)?;
+        Ok(p.done(self.monitors())?)
+    }
+
+    /// What the step reads: the window's pressure (the fluid sends one per
+    /// window; impulse sub-steps after the first keep it), the rigid
+    /// bodies' attachment points and the collision obstacles.
+    fn read_inputs(&mut self, p: &mut Participant, step: &Advance) -> Result<(), Error> {
+        if p.is_connected(CANOPY_PRESSURE) && self.pressure_window != Some(step.window) {
+            self.pressure = Some(p.read_field(CANOPY_PRESSURE)?);
+            self.pressure_window = Some(step.window);
+        }
+        if p.is_connected(ATTACHMENT_STATE) {
+            let state = p.read_field(ATTACHMENT_STATE)?;
+            self.m.set_attachments(&state);
+            for a in &self.m.attachments {
+                let speed = a.v0.iter().map(|c| c * c).sum::<f64>().sqrt();
+                self.watch.raise(speed, "the fastest rigid body");
+            }
+        }
+        if let Some(o) = &mut self.obstacles {
+            o.set_states(&p.read_field(COLLISION_BODIES)?);
+        }
+        Ok(())
+    }
+
+    /// The step's sub-steps, collisions and line breaks; why the step
+    /// failed or diverged, if it did.
+    fn substeps(&mut self, step: &Advance) -> Option<String> {
+        let m = &mut self.m;
+        let loads = Loads {
+            pressure: self.pressure.as_deref().unwrap_or(&[]),
+        };
+        m.dt = step.dt / step.substeps as f64;
+        m.time = step.time;
+        self.substeps += step.substeps as u64;
+        for k in 0..step.substeps {
+            if let Some(o) = &mut self.obstacles {
+                o.begin_step(&m.x);
+            }
+            if let Err(e) = self.stepper.step(m, &loads) {
+                let t = step.time + k as f64 * m.dt;
+                return Some(format!(
+                    "{} failed at t = {t:.6e} s: {e}",
+                    self.stepper.name()
+                ));
+            }
+            if let Some(o) = &mut self.obstacles {
+                o.resolve(&mut m.x, &mut m.v, &m.inv_mass, m.dt);
+            }
+            for event in m.break_lines() {
+                eprintln!("{event}");
+            }
+        }
+        let why = self.watch.check(m)?;
+        Some(format!(
+            "diverged at t = {:.6e} s: {why}",
+            step.time + step.dt
+        ))
+    }
 }

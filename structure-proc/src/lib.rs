@@ -1,5 +1,5 @@
-//! structure-proc: the spring-mass canopy, cloth and strings (seed 000 §2.3,
-//! seed 003 §2.1–§2.4, §3.2).
+//! structure-proc: the spring-mass canopy, cloth and strings (dissertation §2.3,
+//! thesis §2.1–§2.4, §3.2).
 //!
 //! The physics lives here and never touches IPC; `driver.rs` connects a
 //! model and its stepper to the participant library, and `main.rs` only picks the stepper. Data are flat arrays (`x`, `v`: xyz interleaved per node), and the

@@ -1,6 +1,6 @@
-//! Suspension lines: chains of string segments (seed 003 eq. 3) from the skirt to
+//! Suspension lines: chains of string segments (thesis eq. 3) from the skirt to
 //! the confluence, each with a rest-length change and a break rule of its own
-//! (seed 000 §4.2.3: uneven and breaking lines).
+//! (dissertation §4.2.3: uneven and breaking lines).
 
 use crate::model::{Model, NodeKind, Spring};
 

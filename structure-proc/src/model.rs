@@ -11,7 +11,7 @@ use crate::system::System;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NodeKind {
     Free,
-    /// Held in place (Dirichlet condition, e.g. the canopy rim of seed 003 §2.2).
+    /// Held in place (Dirichlet condition, e.g. the canopy rim of thesis §2.2).
     Fixed,
     /// Moved by a rigid body; the index is into [`Model::attachments`].
     Attached(usize),
@@ -64,7 +64,7 @@ pub struct Model {
     pub points: Vec<(String, usize)>,
     pub gravity: [f64; 3],
     /// The Darcy–Forchheimer load of a free stream through the canopy
-    /// triangles (seed 003 eqs. 6–10), when the structure applies it itself.
+    /// triangles (thesis eqs. 6–10), when the structure applies it itself.
     pub porous: Option<porous::Porous>,
     /// Structure time step Δt_s [s] of the current step (the last window may be shorter).
     pub dt: f64,

@@ -1,4 +1,4 @@
-//! Flat circular parachute canopies (seed 000 §4.2: C-9, T-10, G-11, …): a disc of
+//! Flat circular parachute canopies (dissertation §4.2: C-9, T-10, G-11, …): a disc of
 //! nominal diameter D₀, optionally with a vent, divided into gores. Rings of nodes
 //! run from the vent (or a centre node) to the skirt; every ring has a multiple
 //! of the gore count of nodes, so the gore seams, the radial lines between gores,

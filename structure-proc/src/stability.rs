@@ -1,12 +1,12 @@
 //! How large a step a spring-mass model allows: the highest eigenfrequency
-//! bound of seed 000 eq. (3.7), computed from the model. The schemes'
+//! bound of dissertation eq. (3.7), computed from the model. The schemes'
 //! stability intervals and the sub-step estimate built on it are the
 //! coupler's (`scenario::stability`), re-exported here.
 
 pub use scenario::stability::*;
 
 /// Upper bound on the highest angular eigenfrequency [rad/s] of the spring
-/// network, seed 000 eq. (3.7) taken node by node: ω_max² ≤ max_i 2·Σ_j k_ij/m_i
+/// network, dissertation eq. (3.7) taken node by node: ω_max² ≤ max_i 2·Σ_j k_ij/m_i
 /// over free nodes i (Gershgorin's theorem on M⁻¹K with axial stiffnesses).
 /// With M neighbours of stiffness k and equal masses m this is eq. (3.7),
 /// √(2Mk/m); node by node it stays tight when masses or stiffnesses vary.

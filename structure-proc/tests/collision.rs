@@ -1,4 +1,4 @@
-//! Structure nodes against rigid bodies (seed 000 §3.4): the node–body
+//! Structure nodes against rigid bodies (dissertation §3.4): the node–body
 //! impulse of eqs. (3.28) + (3.31) in its rigid-body form keeps momentum,
 //! angular momentum and (C_R = 1) energy; the swept test stops a node that
 //! would pass through a thin body in one step; a node found inside a meshed

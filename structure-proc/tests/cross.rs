@@ -1,4 +1,4 @@
-//! The cross-shaped T-11 canopy (seed 000 table 5.2; the geometry is our
+//! The cross-shaped T-11 canopy (dissertation table 5.2; the geometry is our
 //! assumption, see the README): a flat cross of five squares of side D₀/3.
 
 use scenario::parachute::ParachuteModel;

@@ -1,6 +1,6 @@
 //! Force terms of the spring-mass model against their energies, the membrane
 //! law against linear elasticity, and momentum conservation
-//! (seed 000 §2.3, seed 003 §2.1, §3.2).
+//! (dissertation §2.3, thesis §2.1, §3.2).
 
 mod common;
 
@@ -19,7 +19,7 @@ fn annulus_mesh_is_a_valid_annulus_of_about_703_nodes() {
     let nodes = m.points.len() / 3;
     assert!(
         (690..=720).contains(&nodes),
-        "{nodes} nodes (seed 003 table 3: 703)"
+        "{nodes} nodes (thesis table 3: 703)"
     );
     // An annulus has Euler characteristic V − E + F = 0.
     let mut edges = std::collections::BTreeSet::new();
@@ -69,13 +69,13 @@ fn assert_force_is_minus_gradient(m: &Model, energy: impl Fn(&Model, &[f64]) -> 
 
 #[test]
 fn every_force_term_is_minus_the_gradient_of_its_energy() {
-    // Hookean springs, uniform and k = A·E/l⁰ (seed 003 eqs. 67, 71).
+    // Hookean springs, uniform and k = A·E/l⁰ (thesis eqs. 67, 71).
     for e in [uniform(100.0), fibre(1e-6, 9.575e7)] {
         let mut m = canopy(e, [0.0; 3], None);
         deform(&mut m);
         assert_force_is_minus_gradient(&m, |m, x| elastic_energy(m, x));
     }
-    // Delingette's triangular springs (seed 000 eqs. 2.29–2.33).
+    // Delingette's triangular springs (dissertation eqs. 2.29–2.33).
     let mut m = canopy(membrane(1e6, 0.3, 1e-4), [0.0; 3], None);
     deform(&mut m);
     assert_force_is_minus_gradient(&m, |m, x| elastic_energy(m, x));
@@ -85,7 +85,7 @@ fn every_force_term_is_minus_the_gradient_of_its_energy() {
     m.prepare();
     deform(&mut m);
     assert_force_is_minus_gradient(&m, |m, x| gravity_energy(m, x));
-    // Strings: tension only beyond the compressive tolerance (seed 003 eq. 3),
+    // Strings: tension only beyond the compressive tolerance (thesis eq. 3),
     // one taut and one slack inside its tolerance.
     let mut m = Model::default();
     for (x, kind, mass) in [
@@ -228,7 +228,7 @@ fn membrane_sheet(jitter: f64, young: f64, nu: f64, t: f64) -> Model {
 
 /// A homogeneous uniaxial stretch ε_x = ε, ε_y = −ν ε of a membrane strip must
 /// leave interior nodes in equilibrium, need a total end force E·t·W·ε and no
-/// lateral force (seed 000 eqs. 2.29–2.32 against plane-stress elasticity).
+/// lateral force (dissertation eqs. 2.29–2.32 against plane-stress elasticity).
 fn check_uniaxial(jitter: f64) {
     let (young, nu, t) = (2.0e6, 0.3, 1.0e-4);
     let (len, width, nx, ny) = (1.0, 0.5, 21, 11);

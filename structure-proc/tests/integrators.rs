@@ -1,4 +1,4 @@
-//! Every time integrator against the exact damped oscillator of seed 003
+//! Every time integrator against the exact damped oscillator of the thesis
 //! appendix A (k = 3 N/m, m = 2 kg, x₀ = 2 m): the measured order of convergence
 //! must lie within 0.15 of the scheme's theoretical order.
 
@@ -18,7 +18,7 @@ const C: f64 = 0.5;
 /// Rest length of the spring; the mass moves along it, so the spring stays linear.
 const REST: f64 = 10.0;
 
-/// Seed 003 eqs. (77)–(81) with v₀ = 0: x(t) = A e^{−ct/2m} sin(ωt + φ), and
+/// Thesis eqs. (77)–(81) with v₀ = 0: x(t) = A e^{−ct/2m} sin(ωt + φ), and
 /// its derivative; the study crate's reference oscillator has the same k, m, x₀, c.
 fn exact(t: f64) -> (f64, f64) {
     let r = study::reference::Oscillator::damped();
@@ -27,7 +27,7 @@ fn exact(t: f64) -> (f64, f64) {
 }
 
 /// The oscillator as a spring-mass model: a fixed node at the origin, the mass
-/// at REST + x₀ on the x axis, a spring and an axial dashpot (seed 000 eq. 2.38).
+/// at REST + x₀ on the x axis, a spring and an axial dashpot (dissertation eq. 2.38).
 fn oscillator() -> Model {
     let mut m = Model {
         x: vec![0.0, 0.0, 0.0, REST + X0, 0.0, 0.0],
@@ -103,7 +103,7 @@ fn every_integrator_converges_at_its_theoretical_order() {
 }
 
 /// Undamped (c = 0), velocity Verlet and Euler–Cromer keep the oscillator's
-/// energy bounded over 100 periods, and explicit Euler gains it (seed 003 §2.5.2).
+/// energy bounded over 100 periods, and explicit Euler gains it (thesis §2.5.2).
 #[test]
 fn symplectic_schemes_keep_the_energy_and_explicit_euler_gains_it() {
     let energy = |m: &Model| 0.5 * M * m.v[3].powi(2) + 0.5 * K * (m.x[3] - REST).powi(2);

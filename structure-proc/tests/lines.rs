@@ -1,4 +1,4 @@
-//! Uneven and breaking suspension lines (seed 000 §4.2.3) on the C-9 of
+//! Uneven and breaking suspension lines (dissertation §4.2.3) on the C-9 of
 //! `scenarios/c9-drop.toml`: 10 of 28 lines 0.3 m shorter than 7 m, and lines
 //! that break at a time or above a tension.
 

@@ -1,5 +1,5 @@
 //! The Darcy–Forchheimer load applied by the structure itself
-//! (`[structure.porous]`, seed 003 eqs. 6–10), no fluid process involved.
+//! (`[structure.porous]`, thesis eqs. 6–10), no fluid process involved.
 
 use scenario::Scenario;
 use structure_proc::forces::{Dynamics, Loads};
@@ -41,7 +41,7 @@ stiffness = 10.0
 
 /// A flat sheet falling through still air reaches the terminal speed at which
 /// the Ergun jump carries its weight: e·(A·ε·v + B·ε²·v²) = σ·g, the positive
-/// root of seed 003 eq. (6) with v_f = ε·v (eq. 9) and the whole fall speed
+/// root of thesis eq. (6) with v_f = ε·v (eq. 9) and the whole fall speed
 /// normal to the sheet (eq. 10). Masses and loads are both lumped by a third
 /// of each triangle's area, so every node falls alike and the sheet stays flat.
 #[test]

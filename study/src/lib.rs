@@ -1,5 +1,5 @@
 //! study: canopy's integrators compared by error against CPU time, the
-//! comparison of seed 003 §2.4–§2.5 done with exact solutions and measured
+//! comparison of thesis §2.4–§2.5 done with exact solutions and measured
 //! orders. `coupler study accuracy` runs [`accuracy::sweep`] and writes what
 //! [`report`] and [`plot`] make of it.
 

@@ -252,12 +252,12 @@ fn scenario_study(a: &AccuracyArgs, path: &Path, integrators: &[Integrator], lev
     let steps: Vec<f64> = substeps.iter().map(|&n| study.step(n)).collect();
     let damping = study.scenario.structure.as_ref().map(|s| s.damping);
     let caveat = if damping == Some(scenario::structure::Damping::RelativeVelocity) {
-        "- **Caveat:** the scenario's damping = \"relative-velocity\" is seed 003 eq. (68), c = k·Δt_s: the model itself changes with the step, so every scheme's error includes that change and converges at first order at best.\n"
+        "- **Caveat:** the scenario's damping = \"relative-velocity\" is thesis eq. (68), c = k·Δt_s: the model itself changes with the step, so every scheme's error includes that change and converges at first order at best.\n"
     } else {
         ""
     };
     if !caveat.is_empty() {
-        eprintln!("warning: damping = \"relative-velocity\" scales with Δt_s (seed 003 eq. 68): the errors include the model's change with the step");
+        eprintln!("warning: damping = \"relative-velocity\" scales with Δt_s (thesis eq. 68): the errors include the model's change with the step");
     }
     let setup = format!(
         "- Scenario: {} ({} s simulated, coupling window {} s), every run through `coupler run`.\n- Error: {}.\n- Reference: {} at Δt_s = {:e} s ({} sub-steps per window).\n- Steps: Δt_s = {:e} s down to {:e} s, halving; an adaptive scheme runs at the scenario's own step with tolerances from {:e} down to {:e}.\n- CPU time: the structure process's, from each run's manifest.\n",

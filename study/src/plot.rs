@@ -132,7 +132,7 @@ const FAILED: RGBColor = RGBColor(200, 200, 200);
 
 /// The stability map, one panel per integrator: stiffness k across, step h
 /// up, each cell coloured by its outcome, with the predicted limit
-/// y*/ω_max (black), the seed's ω_max·h = 0.1 (blue, dashed) and the
+/// y*/ω_max (black), the dissertation's ω_max·h = 0.1 (blue, dashed) and the
 /// bisected limit (dots) over it.
 pub fn stability_map(
     chain: &Chain,
@@ -190,7 +190,7 @@ where
     )?
     .draw_text(
         &format!(
-            "green: stable; red: unstable (non-finite, or energy > {} E0 after {} steps); grey: Newton failed; black line: predicted limit y*/w_max; blue dashed: seed 000 w_max h = 0.1; dots: bisected limit",
+            "green: stable; red: unstable (non-finite, or energy > {} E0 after {} steps); grey: Newton failed; black line: predicted limit y*/w_max; blue dashed: the dissertation w_max h = 0.1; dots: bisected limit",
             crate::stability::GROWTH,
             crate::stability::STEPS
         ),

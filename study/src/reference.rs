@@ -1,7 +1,7 @@
 //! Reference systems with a known answer, each a [`System`] the integrators
 //! advance exactly as they advance a canopy: the damped and undamped
-//! oscillator of seed 003 appendix A, the undamped simple pendulum of seed 003
-//! §2.5.1, and the spring pendulum of seed 003 §2.5.2.
+//! oscillator of thesis appendix A, the undamped simple pendulum of the thesis
+//! §2.5.1, and the spring pendulum of thesis §2.5.2.
 
 use crate::elliptic::{complete_k, sn_cn_dn};
 use scenario::structure::STANDARD_GRAVITY;
@@ -83,7 +83,7 @@ fn one_dof_state(q: f64, qdot: f64) -> (Vec<f64>, Vec<f64>) {
     (x, v)
 }
 
-/// m·q̈ = −k·q − c·q̇ with k = 3 N/m, m = 2 kg, q(0) = 2 m, q̇(0) = 0 (seed 003
+/// m·q̈ = −k·q − c·q̇ with k = 3 N/m, m = 2 kg, q(0) = 2 m, q̇(0) = 0 (the thesis
 /// appendix A); damped with c = 0.5 N·s/m (ratio 0.1), or undamped.
 #[derive(Debug, Clone, Copy)]
 pub struct Oscillator {
@@ -113,7 +113,7 @@ impl Oscillator {
         }
     }
 
-    /// Seed 003 eqs. (77)–(81) with v₀ = 0: x(t) = A·e^{−ct/2m}·sin(ωt + φ), and ẋ.
+    /// Thesis eqs. (77)–(81) with v₀ = 0: x(t) = A·e^{−ct/2m}·sin(ωt + φ), and ẋ.
     pub fn exact(&self, t: f64) -> (f64, f64) {
         let Oscillator { k, m, x0, c } = *self;
         let w = (4.0 * m * k - c * c).sqrt() / (2.0 * m); // (77)
@@ -136,7 +136,7 @@ impl Reference for Oscillator {
         }
     }
     fn error_measure(&self) -> &'static str {
-        "largest (|x − x_e| + |v − v_e|/ω₀)/x₀ over the samples; exact x_e of seed 003 appendix A, eqs. (77)–(81)"
+        "largest (|x − x_e| + |v − v_e|/ω₀)/x₀ over the samples; exact x_e of thesis appendix A, eqs. (77)–(81)"
     }
     fn start(&self) -> (Box<dyn System>, Vec<f64>, Vec<f64>) {
         let Oscillator { k, m, x0, c } = *self;
@@ -154,7 +154,7 @@ impl Reference for Oscillator {
     }
 }
 
-/// The undamped simple pendulum of seed 003 eqs. (58)–(61) with c = 0:
+/// The undamped simple pendulum of thesis eqs. (58)–(61) with c = 0:
 /// θ̈ = −(g/L)·sin θ, L = 1 m, released from rest at θ₀ = 1 rad. Its exact
 /// motion is θ = 2·asin(k·sn(K(k) − ω₀t | k²)), k = sin(θ₀/2), ω₀ = √(g/L),
 /// with period 4K(k)/ω₀ (the complete elliptic integral).
@@ -214,7 +214,7 @@ impl Reference for Pendulum {
     }
 }
 
-/// The spring pendulum of seed 003 §2.5.2, eqs. (62)–(64), as
+/// The spring pendulum of thesis §2.5.2, eqs. (62)–(64), as
 /// `scenarios/spring-pendulum.toml` sets it: a 1 kg bob between anchors at
 /// y = ±1 m on two springs of K = 100 N/m and rest length 0.8 m, released from
 /// rest at (0.3, 0.2) m. With no damping its energy is conserved.

@@ -104,7 +104,7 @@ pub fn stability_markdown(chain: &Chain, limits: &[Limit], ks: &[f64], dts: &[f6
     let mut s = String::from("# Stability study: linear spring chain\n\n");
     let _ = writeln!(
         s,
-        "- Network: a fixed–fixed chain of {} free nodes of {} kg on springs of rest length {} m, started in its highest mode (axial motion, so the forces are linear).\n- ω_max: the bound of seed 000 eq. (3.7), √(2Mk/m) with M = 2 neighbours; the chain's exact highest frequency is {:.4} of it.\n- Rule: unstable when a value turns non-finite, or the energy after {STEPS} steps exceeds {GROWTH} × E₀.\n- Grid: k from {:e} to {:e} N/m ({} values), h from {:e} to {:e} s ({} values); the limit is refined by {BISECTIONS} bisections.\n- Prediction: h* = y*/ω_max with y* the end of the scheme's stability interval; schemes with an empty interval (energy grows at every h) are predicted where their amplification |R(iy)|^(2·{STEPS}) reaches {GROWTH}.\n",
+        "- Network: a fixed–fixed chain of {} free nodes of {} kg on springs of rest length {} m, started in its highest mode (axial motion, so the forces are linear).\n- ω_max: the bound of dissertation eq. (3.7), √(2Mk/m) with M = 2 neighbours; the chain's exact highest frequency is {:.4} of it.\n- Rule: unstable when a value turns non-finite, or the energy after {STEPS} steps exceeds {GROWTH} × E₀.\n- Grid: k from {:e} to {:e} N/m ({} values), h from {:e} to {:e} s ({} values); the limit is refined by {BISECTIONS} bisections.\n- Prediction: h* = y*/ω_max with y* the end of the scheme's stability interval; schemes with an empty interval (energy grows at every h) are predicted where their amplification |R(iy)|^(2·{STEPS}) reaches {GROWTH}.\n",
         chain.free,
         chain.mass,
         chain.spacing,

@@ -1,7 +1,7 @@
 //! The stability sweep: every chosen integrator on a linear spring network
 //! over a grid of stiffness k and step h, each run called stable or unstable
 //! by a stated rule, and the largest stable step found by bisection beside
-//! the theory: ω_max of seed 000 eq. (3.7) and the scheme's interval ω·h ≤ y*.
+//! the theory: ω_max of dissertation eq. (3.7) and the scheme's interval ω·h ≤ y*.
 
 use crate::accuracy::scheme;
 use crate::reference::{mechanical_energy, Owned};
@@ -30,7 +30,7 @@ pub const AMPLITUDE: f64 = 1e-3;
 
 /// A fixed–fixed chain of `free` equal masses joined by `free + 1` equal
 /// springs along x, started at rest in its highest mode: under axial motion the
-/// spring forces of seed 003 eq. (67) are exactly linear, and the motion stays
+/// spring forces of thesis eq. (67) are exactly linear, and the motion stays
 /// in that mode, whose frequency 2√(k/m)·sin(nπ/(2(n+1))) is the network's ω_max.
 #[derive(Debug, Clone, Copy)]
 pub struct Chain {
@@ -90,7 +90,7 @@ impl Chain {
         m
     }
 
-    /// ω_max bound of seed 000 eq. (3.7) at stiffness `k`, as canopy computes it.
+    /// ω_max bound of dissertation eq. (3.7) at stiffness `k`, as canopy computes it.
     pub fn omega_max(&self, k: f64) -> f64 {
         let m = self.model(k);
         stability::omega_max(&m.inv_mass, &m.couplings)

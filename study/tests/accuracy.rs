@@ -1,7 +1,7 @@
 //! The accuracy study's measured orders against each scheme's theoretical
-//! order (seed 003 §2.4), on systems with exact solutions: the damped
-//! oscillator of seed 003 appendix A (eqs. 77–81) and the undamped simple
-//! pendulum (seed 003 eqs. 58–61, exact through Jacobi's elliptic functions).
+//! order (thesis §2.4), on systems with exact solutions: the damped
+//! oscillator of thesis appendix A (eqs. 77–81) and the undamped simple
+//! pendulum (thesis eqs. 58–61, exact through Jacobi's elliptic functions).
 
 use scenario::structure::Integrator;
 use study::accuracy::{ladder, summarise, sweep, Status};
@@ -46,7 +46,7 @@ fn measured_orders_match_theory_on_the_simple_pendulum() {
     check_orders(by_name("pendulum").unwrap().as_ref());
 }
 
-/// Seed 003 §2.5.2: on the undamped spring pendulum explicit Euler gains
+/// Thesis §2.5.2: on the undamped spring pendulum explicit Euler gains
 /// energy until it diverges, while velocity Verlet, being symplectic, keeps
 /// the energy within O(ω²dt²) at the same step.
 #[test]

@@ -1,5 +1,5 @@
 //! The stability sweep against theory on a linear spring chain: the bound
-//! ω_max of seed 000 eq. (3.7) times each scheme's stability interval.
+//! ω_max of dissertation eq. (3.7) times each scheme's stability interval.
 
 use scenario::structure::Integrator;
 use structure_proc::stability::{interval, Interval};
@@ -49,7 +49,7 @@ fn explicit_limits_match_theory_and_unconditional_schemes_stay_stable() {
         }
     }
     // Euler–Cromer and velocity Verlet: ω·h ≤ 2 on the exact ω_max; the
-    // measured limit brackets it closely (seed 003 §2.4; Hairer, Lubich &
+    // measured limit brackets it closely (thesis §2.4; Hairer, Lubich &
     // Wanner, Geometric Numerical Integration, §I.5).
     for l in limits.iter().filter(|l| {
         matches!(

@@ -129,7 +129,7 @@ fn centre_line(run: &std::path::Path) -> impl Fn(f64) -> f64 {
     }
 }
 
-/// Seed 000 §4.2.2 (fig. 4.3): a parachutist with a finite volume leaves a
+/// Dissertation §4.2.2 (fig. 4.3): a parachutist with a finite volume leaves a
 /// wake in the stream and feels an upward force from it; as a mass point
 /// it leaves none. The mass point is outside the flow, so the uniform
 /// stream, an exact solution with these sides, passes unchanged to

@@ -1,4 +1,4 @@
-//! The C-9 drop (seed 000 §4.2), and the same with the T-11: canopy, 28 lines and a 100 kg payload mass point
+//! The C-9 drop (dissertation §4.2), and the same with the T-11: canopy, 28 lines and a 100 kg payload mass point
 //! falling through still air under the porous free-stream load. The mesh stays
 //! valid, and the air and damping only ever take energy out.
 
@@ -12,7 +12,7 @@ fn c9_falls_with_its_payload_and_keeps_its_mesh_valid() {
     drop_keeps_mesh_valid("c9", |_| {});
 }
 
-/// The cross-shaped T-11 (seed 000 table 5.2) in the same drop: its flat
+/// The cross-shaped T-11 (dissertation table 5.2) in the same drop: its flat
 /// cross has no gore seams, so the C-9's seam stiffness goes.
 #[test]
 fn t11_cross_falls_with_its_payload_and_keeps_its_mesh_valid() {
@@ -92,7 +92,7 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
     );
 
     // Energy: the Ergun load opposes the canopy's motion through the air and the
-    // damping of seed 003 eq. (68) opposes stretching, so kinetic plus potential
+    // damping of thesis eq. (68) opposes stretching, so kinetic plus potential
     // energy never grows (a load held over one window allows round-off-sized slips).
     let (ke, pe) = (
         m.column("structure.kinetic_energy"),
@@ -117,7 +117,7 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
     );
 }
 
-/// The C-9's lines attached to a rigid body instead of a mass point (seed 000
+/// The C-9's lines attached to a rigid body instead of a mass point (the dissertation
 /// §2.4): rigid-proc carries a 100 kg body, structure-proc hangs the lines on
 /// it and sends their impulse every structure sub-step. A body without
 /// rotation is a mass point, so the payload falls as the mass point does,

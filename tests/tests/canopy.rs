@@ -1,5 +1,5 @@
-//! The porous annulus canopy of seed 003 §3.2, coupled between fluid-proc
-//! (porous free-stream Ergun load, seed 003 eqs. 6–10) and structure-proc.
+//! The porous annulus canopy of thesis §3.2, coupled between fluid-proc
+//! (porous free-stream Ergun load, thesis eqs. 6–10) and structure-proc.
 
 use canopy_tests::*;
 use fluid_proc::Porous;
@@ -91,7 +91,7 @@ fn transport_changes_no_number() {
     assert_eq!(differing, 0, "{differing} of {} coordinates differ", 3 * n);
 }
 
-/// `integrator` is one key: every scheme of seed 003 §2.4 (and backward Euler)
+/// `integrator` is one key: every scheme of thesis §2.4 (and backward Euler)
 /// carries the canopy to the same equilibrium, where damping and inertia vanish
 /// and only the springs, gravity and the Ergun load remain.
 #[test]

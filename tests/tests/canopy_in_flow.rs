@@ -1,4 +1,4 @@
-//! The canopy in the incompressible flow through the coupler (seed 000
+//! The canopy in the incompressible flow through the coupler (the dissertation
 //! §3.3): structure-proc sends the canopy, fluid-proc holds the air to it
 //! as an immersed sheet and sends back the pressure jump on each triangle,
 //! read side by side through the local index coating (§3.3.2). Both cases
@@ -11,7 +11,7 @@ use canopy_tests::*;
 const G: f64 = 9.81;
 
 /// Darcy–Forchheimer drop of the fabric of `scenarios/sheet-updraft.toml`
-/// at the air's speed w through it [Pa], seed 003 eqs. (6)–(9) with
+/// at the air's speed w through it [Pa], thesis eqs. (6)–(9) with
 /// Ergun's coefficients (eqs. 7–8): ε = 0.5, D = 1 mm, e = 0.1 mm, ISA air
 /// (ρ = 1.225 kg/m³, μ = 1.7894·10⁻⁵ Pa·s).
 fn updraft_fabric_drop(w: f64) -> f64 {
@@ -29,7 +29,7 @@ const AREAL_DENSITY: f64 = 0.05;
 
 /// Checks a settled sheet-updraft run in `out`, its sheet `area` [m²]: the
 /// drop across the sheet carries its weight, Δp = ρ_s·g, and it rises at
-/// V = U − w* with Δp(w*) = ρ_s·g (seed 003 eq. 10: the law takes the
+/// V = U − w* with Δp(w*) = ρ_s·g (thesis eq. 10: the law takes the
 /// air's velocity relative to the fabric); both within 0.5 %.
 fn assert_hovers(out: &std::path::Path, area: f64) {
     let weight = AREAL_DENSITY * G;
@@ -186,7 +186,7 @@ fn first_swing(out: &std::path::Path) -> (f64, f64) {
 }
 
 /// The annulus of `canopy-flow.toml` in its flow field against the same
-/// canopy in the porous free stream of seed 003 §2.1 (`canopy-porous.toml`).
+/// canopy in the porous free stream of thesis §2.1 (`canopy-porous.toml`).
 /// The fabric drops only 2.5 % of the stream's dynamic pressure, so the
 /// stream passes it nearly undisturbed and the two models must load it
 /// alike: the first swing's depth and time within 10 %. On 0.15 m cells

@@ -1,4 +1,4 @@
-//! Structure nodes against rigid bodies across the two processes (seed 000
+//! Structure nodes against rigid bodies across the two processes (the dissertation
 //! §3.4): a mass point strikes a ball and they part with the velocities of
 //! eq. (4.1), and a cloth dropped on a cuboid (§4.3.2, fig. 4.8) never
 //! enters it, obeys the momentum balance with the impulses the cuboid gives,

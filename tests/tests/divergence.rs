@@ -1,7 +1,7 @@
 //! Stability estimate and divergence detection on the spring pendulum of
-//! seed 003 §2.5.2 (two springs of K = 100 N/m on a 1 kg bob): its ω_max
-//! bound, seed 000 eq. (3.7) node by node, is √(2·(K + K)/M) = 20 rad/s.
-//! Explicit Euler gains energy at every step (seed 003 §2.5.2, fig. 9), so
+//! thesis §2.5.2 (two springs of K = 100 N/m on a 1 kg bob): its ω_max
+//! bound, dissertation eq. (3.7) node by node, is √(2·(K + K)/M) = 20 rad/s.
+//! Explicit Euler gains energy at every step (thesis §2.5.2, fig. 9), so
 //! with a large step the run must stop with a diagnostic, not go on.
 
 use canopy_tests::*;
@@ -76,7 +76,7 @@ fn a_diverging_run_stops_within_a_window_and_names_time_node_and_quantity() {
         .unwrap()
         .contains("diverged at t ="));
     // The stability estimate the run used: explicit Euler has no interval,
-    // so n_s is the seed's ω_max·Δt_s < 0.1: ⌈20·0.02/0.1⌉ = 4.
+    // so n_s is the dissertation's ω_max·Δt_s < 0.1: ⌈20·0.02/0.1⌉ = 4.
     let st = &manifest["stability"];
     assert!((st["omega_max"].as_f64().unwrap() - OMEGA_MAX).abs() < 1e-12);
     assert_eq!(st["n_s"].as_u64(), Some(4));

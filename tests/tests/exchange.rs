@@ -127,13 +127,7 @@ fn two_runs_of_one_scenario_at_once_do_not_interfere() {
     let dir = scratch("twice");
     let path = variant("pendulum", &dir, |s| s.run.end_time = 1.0);
     let start = |name: &str| {
-        std::process::Command::new(coupler_exe())
-            .args([
-                "run",
-                path.to_str().unwrap(),
-                "--out",
-                dir.join(name).to_str().unwrap(),
-            ])
+        run_command(&path, &dir.join(name))
             .stderr(std::process::Stdio::null())
             .spawn()
             .unwrap()
@@ -157,13 +151,7 @@ fn start_long_run(
         s.coupling.timeout = timeout;
     });
     let out = dir.join("run");
-    let child = std::process::Command::new(coupler_exe())
-        .args([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
+    let child = run_command(&path, &out)
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();

@@ -67,8 +67,8 @@ fn assert_stopped(name: &str, code: Option<i32>, err: &str, out: &Path, by: f64)
     assert_eq!(manifest(out)["status"], "failed");
 }
 
-/// Seed 003 table 3: the annulus with k = A·E/l⁰ from E = 9.575e7 Pa
-/// under the 50 m/s Ergun load, where every scheme of the seed diverged by
+/// Thesis table 3: the annulus with k = A·E/l⁰ from E = 9.575e7 Pa
+/// under the 50 m/s Ergun load, where every scheme of the thesis diverged by
 /// 3.4e-11 s (705 nodes here; the thesis's mesh had 703). Backward Euler at
 /// Δt = 1e-3 s brings it to rest; velocity
 /// Verlet at the same step is stopped in its first window.
@@ -153,7 +153,7 @@ fn an_impulse_of_1e4_m_per_s_runs_stably() {
     }
 }
 
-/// The seed's 10¹² m/s free stream: the run stops in its first window,
+/// The thesis's 10¹² m/s free stream: the run stops in its first window,
 /// blaming the free stream's scale; backward Euler's Newton iterations
 /// cannot converge and say so at t = 0.
 #[test]

@@ -1,5 +1,5 @@
 //! The flow models through the coupler. The incompressible C-9 set-up of
-//! seed 000 §4.2.1 (inflow below, outflow at p = 0 above, periodic sides)
+//! dissertation §4.2.1 (inflow below, outflow at p = 0 above, periodic sides)
 //! carries a uniform stream through the box unchanged — uniform flow at
 //! p = 0 solves the Navier–Stokes equations with these sides exactly, so
 //! anything else is an error of the sides — and writes its fields as

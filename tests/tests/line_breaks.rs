@@ -1,4 +1,4 @@
-//! Breaking lines in a run (seed 000 §4.2.3): the C-9 drop with the 14 lines
+//! Breaking lines in a run (dissertation §4.2.3): the C-9 drop with the 14 lines
 //! on the +y half of the skirt breaking at t = 0.1 s. The driver breaks them at
 //! the first sub-step past their time and says so in the structure log, and
 //! from then on only the −y half pulls, so the payload swings towards −y where

@@ -1,4 +1,4 @@
-//! The simple pendulum of seed 003 §2.5.1 (m = 1 kg, L = 1 m) split over
+//! The simple pendulum of thesis §2.5.1 (m = 1 kg, L = 1 m) split over
 //! rigid-proc (the ball) and structure-proc (a stiff string from a fixed point).
 
 use canopy_tests::*;
@@ -22,7 +22,7 @@ fn exact_period(theta0: f64, g: f64) -> f64 {
     4.0 * elliptic_k((theta0 / 2.0).sin()) * (L / g).sqrt()
 }
 
-/// Run the pendulum scenario released at `theta0` with damping `c` (seed 003 eq. 61).
+/// Run the pendulum scenario released at `theta0` with damping `c` (thesis eq. 61).
 fn run(name: &str, theta0: f64, c: f64, end_time: f64) -> (Monitors, f64) {
     let dir = scratch(name);
     let mut g = 0.0;
@@ -84,7 +84,7 @@ fn sixty_degree_period_matches_the_elliptic_integral() {
     assert!(drift < 5e-3 * scale, "energy drift {drift} J");
 }
 
-/// θ(t) of seed 003 eqs. (60)–(61) by classical RK4 with a fine step.
+/// θ(t) of thesis eqs. (60)–(61) by classical RK4 with a fine step.
 fn reference_theta(theta0: f64, c: f64, g: f64, times: &[f64]) -> Vec<f64> {
     let m = 1.0;
     let f = |th: f64, om: f64| (om, -(g / L) * th.sin() - om * c / (m * L * L));

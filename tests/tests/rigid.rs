@@ -1,5 +1,5 @@
 //! Rigid-body scenes run through the coupler (issue 5): the collision
-//! benchmark of seed 000 §4.3.1, torque-free tumbling (eq. 2.12), a ball
+//! benchmark of dissertation §4.3.1, torque-free tumbling (eq. 2.12), a ball
 //! bouncing with restitution (eq. 3.31), and the pendulum and the C-9 drop
 //! with the payload as a finite rigid body (§2.4).
 

@@ -1,4 +1,4 @@
-//! The spring pendulum of seed 003 §2.5.2, run by structure-proc alone: the
+//! The spring pendulum of thesis §2.5.2, run by structure-proc alone: the
 //! trajectory follows an independent solution of eqs. (63)–(64) and the energy
 //! of eq. (62) is conserved without damping.
 
@@ -9,7 +9,7 @@ const K: f64 = 100.0;
 const A: f64 = 1.0;
 const L: f64 = 0.8;
 
-/// Seed 003 eqs. (63)–(64): the accelerations of the mass.
+/// Thesis eqs. (63)–(64): the accelerations of the mass.
 fn accel(x: f64, y: f64) -> (f64, f64) {
     let r1 = (x * x + (y - A).powi(2)).sqrt();
     let r2 = (x * x + (y + A).powi(2)).sqrt();

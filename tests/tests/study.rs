@@ -1,7 +1,7 @@
 //! `coupler study accuracy` and `coupler study stability` from the command
 //! line, as a user runs them: they hand over to the `study` executable and
 //! leave a CSV, a Markdown table and a plot as PNG and SVG. The undamped
-//! oscillator's exact solution is x₀·cos(ω₀t) (seed 003 appendix A with c = 0).
+//! oscillator's exact solution is x₀·cos(ω₀t) (thesis appendix A with c = 0).
 
 use canopy_tests::*;
 use std::path::{Path, PathBuf};
@@ -97,7 +97,7 @@ fn stability_study_writes_the_map_and_finds_the_verlet_limit() {
         "stability.csv",
     );
     assert_eq!(rows.len(), 2 * 2 * 10, "2 integrators × 2 k × 10 steps");
-    // Velocity Verlet is stable exactly where ω_max·h ≤ 2 (ω_max of seed 000
+    // Velocity Verlet is stable exactly where ω_max·h ≤ 2 (ω_max of the dissertation
     // eq. 3.7 is within 1.3 % of the chain's exact one); the nearest cells of
     // this grid lie at ω_max·h = 1.2 and 2.6. Backward Euler is stable everywhere.
     for r in &rows {
@@ -140,9 +140,9 @@ fn a_zero_stiffness_is_bad_input() {
     assert!(err.contains("--k-min 0"), "{err}");
 }
 
-/// A scenario studied through `coupler run`: the spring pendulum of seed 003
+/// A scenario studied through `coupler run`: the spring pendulum of the thesis
 /// §2.5.2 against an RK4 run 2³ times finer than the finest step. Halving the
-/// structure step divides the error by 2^p, p each scheme's order (seed 003
+/// structure step divides the error by 2^p, p each scheme's order (the thesis
 /// §2.4); the CPU time comes from each run's manifest.
 #[test]
 fn accuracy_study_of_a_scenario_measures_orders_through_coupler_runs() {

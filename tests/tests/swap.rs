@@ -2,7 +2,7 @@
 //! scene with its `[participants.structure] program` line changed to
 //! xpbd-proc, and nothing else, settles at the centre deflection that
 //! structure-proc's force integrator reaches. Both solve the same static
-//! balance of springs, gravity and the Ergun load (seed 003 §3.2); XPBD gets
+//! balance of springs, gravity and the Ergun load (thesis §3.2); XPBD gets
 //! there by position projections (Macklin et al. 2016) instead of forces.
 //!
 //! The porous load can move too (issue 3, item 1): the same scene with

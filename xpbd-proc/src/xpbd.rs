@@ -5,7 +5,7 @@
 //! Every spring of the model is a distance constraint C = l − l⁰ with
 //! compliance α = 1/k, so that its energy ½ α⁻¹ C² is the spring's ½ k δ²;
 //! strings are one-sided (C = max(l − l⁰ − ε, 0), the tension-only law of
-//! seed 003 eq. 3). A step predicts the positions under the external loads
+//! thesis eq. 3). A step predicts the positions under the external loads
 //! (gravity and the fluid's pressure jump), then projects the constraints by
 //! Gauss–Seidel sweeps on the multipliers λ (eq. 18), and takes the velocity
 //! from the position change. The sweeps repeat until the largest correction

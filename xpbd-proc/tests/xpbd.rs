@@ -1,6 +1,6 @@
 //! XPBD against closed forms: a hanging chain settles where Hooke's law puts
 //! it, the support carries the chain's weight, and a slack string lets its
-//! mass fall freely (seed 003 eq. 3: strings carry tension only).
+//! mass fall freely (thesis eq. 3: strings carry tension only).
 
 use structure_proc::driver::Stepper;
 use structure_proc::forces::damping::{Damper, Law};

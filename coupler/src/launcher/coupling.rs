@@ -15,9 +15,10 @@ use std::path::Path;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-/// How long a freshly started participant may take to connect, at least
-/// (a longer `coupling.timeout` extends it).
-pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(30);
+/// How long a freshly started participant may take to connect: the
+/// scenario's `coupling.timeout`, but not less than this, for a process
+/// started on a loaded machine.
+pub const CONNECT_FLOOR: Duration = Duration::from_secs(5);
 /// How long the coupler sleeps between looks at its reports: participants
 /// leave their monitor rows without waking it, every 50 ms.
 const LOOK_EVERY: Duration = Duration::from_millis(20);
@@ -75,7 +76,7 @@ pub fn run(
 ) -> Result<Outcome, CouplingError> {
     let timing = super::timing(scenario);
     let timeout = Duration::from_secs_f64(timing.timeout);
-    sup.join(setup, CONNECT_TIMEOUT.max(timeout), timeout)?;
+    sup.join(setup, CONNECT_FLOOR.max(timeout), timeout)?;
     let names = sup.names().to_vec();
     let monitors = Monitors::create(monitors_path, &names, sup.declarations(), &timing)?;
     let omega_max = omega_max_column(&names, sup.declarations());

@@ -1,5 +1,5 @@
 //! `coupler check`'s stability estimate: ask the structure program for the
-//! ω_max of the model the scenario builds (seed 000 eq. 3.7), and warn when
+//! ω_max of the model the scenario builds (dissertation eq. 3.7), and warn when
 //! the scenario's structure step is above its integrator's stability limit.
 
 use super::programs;
@@ -52,7 +52,7 @@ pub fn report(checked: &mut Checked) {
         _ => "unconditionally stable".to_string(),
     };
     println!(
-        "  stability ω_max = {omega_max:.4e} rad/s (seed 000 eq. 3.7): {name} {limit}; the seed's ω_max·Δt_s < 0.1 needs n_s ≥ {}",
+        "  stability ω_max = {omega_max:.4e} rad/s (dissertation eq. 3.7): {name} {limit}; the dissertation's ω_max·Δt_s < 0.1 needs n_s ≥ {}",
         est.n_s_seed
     );
     if let Some(w) = stability::warning(&est, c.window, c.structure_substeps, name) {

@@ -37,7 +37,7 @@ pub struct Checked {
 /// Load the scenario and find its programs; every problem is one message with file, line and key.
 pub fn load_checked(path: &Path) -> Result<Checked, ScenarioError> {
     let scenario = Scenario::load(path)?;
-    let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::io(path, &e))?;
+    let text = scenario::read_text(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut programs = Vec::new();
     for role in scenario.participants.names() {

@@ -45,26 +45,13 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
     let run_id = names::new_run_id();
     let run_dir = out
         .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}-{run_id}", scenario.run.name)));
-    if std::fs::read_dir(&run_dir)
-        .map(|mut d| d.next().is_some())
-        .unwrap_or(false)
-    {
-        eprintln!(
-            "error: {} is not empty; choose another --out or remove it",
-            run_dir.display()
-        );
-        return EXIT_BAD_INPUT;
-    }
-    if let Err(e) = std::fs::create_dir_all(&run_dir)
-        .and_then(|_| std::fs::write(run_dir.join("scenario.toml"), scenario.to_toml()))
-    {
-        eprintln!(
-            "error: cannot write the run directory {}: {e}",
-            run_dir.display()
-        );
-        return EXIT_BAD_INPUT;
-    }
-    let run_dir = run_dir.canonicalize().unwrap_or(run_dir);
+    let run_dir = match claim_run_dir(&run_dir, &scenario.to_toml()) {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return EXIT_BAD_INPUT;
+        }
+    };
     // Replaced when the run ends; if the coupler itself is killed, this says so.
     let early = json!({
         "status": "running",
@@ -131,6 +118,37 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
         ),
     }
     code
+}
+
+/// Make `dir` this run's: it must be new or empty. The resolved scenario is
+/// its first file, created only if it does not exist, so of two runs
+/// started into one directory at once one gets it and the other stops.
+fn claim_run_dir(dir: &Path, scenario: &str) -> Result<PathBuf, String> {
+    use std::io::Write;
+    let taken = || {
+        format!(
+            "{} is not empty; choose another --out or remove it",
+            dir.display()
+        )
+    };
+    let unwritable =
+        |e: std::io::Error| format!("cannot write the run directory {}: {e}", dir.display());
+    if std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_some()) {
+        return Err(taken());
+    }
+    std::fs::create_dir_all(dir).map_err(unwritable)?;
+    let path = dir.join("scenario.toml");
+    let mut file = match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&path)
+    {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => return Err(taken()),
+        Err(e) => return Err(unwritable(e)),
+    };
+    file.write_all(scenario.as_bytes()).map_err(unwritable)?;
+    Ok(dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf()))
 }
 
 /// What the launcher and the coupling thread share.
@@ -386,14 +404,14 @@ fn failed(e: CouplingError) -> End {
 }
 
 /// A participant exited before the run ended. One that said why (it
-/// failed, or it waited in vain for another) exits right after saying so;
-/// that reason, on its way to the coupling thread, is the better message.
+/// failed, or it waited in vain for another) exits right after saying so,
+/// and one may exit because the coupler itself stopped (it could not write
+/// monitors.csv): the coupling thread's reason, if it comes, is the better
+/// message.
 async fn early_exit(children: &[Child], exit: &Exit, done: &mut Done) -> End {
     let said = tokio::time::timeout(Duration::from_millis(500), &mut *done).await;
     if let Ok(Ok(Err(e))) = said {
-        if e.culprit().is_some() {
-            return failed(e);
-        }
+        return failed(e);
     }
     let how = match &exit.status {
         Ok(s) => supervise::describe(s),

@@ -1,6 +1,6 @@
 //! Viscous damping between the two ends of a spring. Two laws, one per seed:
-//! - seed 003 eq. (68): F_v,i = Σ_j k_ij·Δt·(v_j − v_i), the whole relative velocity;
-//! - seed 000 eq. (2.38): F_d = c·V⁽ⁱⁿᵗ⁾. We read V⁽ⁱⁿᵗ⁾, "the velocity due to the
+//! - thesis eq. (68): F_v,i = Σ_j k_ij·Δt·(v_j − v_i), the whole relative velocity;
+//! - dissertation eq. (2.38): F_d = c·V⁽ⁱⁿᵗ⁾. We read V⁽ⁱⁿᵗ⁾, "the velocity due to the
 //!   spring force only", as the rate of change of each spring's length, so the
 //!   dashpot acts along the spring: F_d,i = c·((v_j − v_i)·e)·e. Rigid motion, and
 //!   with it linear and angular momentum, is left alone.
@@ -11,9 +11,9 @@ use nalgebra::Vector3;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Law {
-    /// Seed 003 eq. (68).
+    /// Thesis eq. (68).
     RelativeVelocity,
-    /// Seed 000 eq. (2.38), along the spring.
+    /// Dissertation eq. (2.38), along the spring.
     Axial,
 }
 
@@ -24,7 +24,7 @@ pub struct Damper {
     /// Coefficient [N·s/m]: k_ij·Δt for eq. (68), c for eq. (2.38).
     pub c: f64,
     /// Length below which the damper is idle: a slack string carries no force,
-    /// viscous or elastic (seed 003 eq. 3). 0 for springs.
+    /// viscous or elastic (thesis eq. 3). 0 for springs.
     pub slack_below: f64,
 }
 

@@ -1,4 +1,4 @@
-//! Delingette's triangular springs (seed 000 §2.3, eqs. 2.29–2.37): each triangle
+//! Delingette's triangular springs (dissertation §2.3, eqs. 2.29–2.37): each triangle
 //! resists the change of its three edge lengths dl with the energy
 //! W = Σ ½ k_ij dl_ij² + Σ γ_i dl_ij dl_ik (eq. 2.29). With the stiffnesses of
 //! eqs. (2.30)–(2.31) and the Lamé relations (2.32), W equals the small-strain
@@ -24,7 +24,7 @@ pub struct TriangleSprings {
 #[error("triangle ({0}, {1}, {2}) is degenerate: area {3:.3e} m² for longest edge {4:.3e} m")]
 pub struct Degenerate(pub usize, pub usize, pub usize, pub f64, pub f64);
 
-/// Lamé coefficients of seed 000 eq. (2.32) per unit area of a membrane of
+/// Lamé coefficients of dissertation eq. (2.32) per unit area of a membrane of
 /// thickness t: λ = E t ν/(1 − ν²), μ = E t (1 − ν)/(1 − ν²).
 pub fn lame(young: f64, poisson: f64, thickness: f64) -> (f64, f64) {
     let et = young * thickness / (1.0 - poisson * poisson);

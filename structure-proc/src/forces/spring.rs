@@ -1,5 +1,5 @@
-//! Hookean springs (seed 003 eq. 67) and strings that carry tension only, beyond
-//! a compressive tolerance (seed 003 eq. 3).
+//! Hookean springs (thesis eq. 67) and strings that carry tension only, beyond
+//! a compressive tolerance (thesis eq. 3).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -11,7 +11,7 @@ pub struct Spring {
     pub k: f64,
     /// Rest length l⁰_ij [m].
     pub rest: f64,
-    /// Strings carry tension only, beyond the compressive tolerance eps (seed 003 eq. 3).
+    /// Strings carry tension only, beyond the compressive tolerance eps (thesis eq. 3).
     pub tension_only: bool,
     pub eps: f64,
 }

@@ -2,7 +2,7 @@
 //! with Newton iterations and conjugate gradients as Baraff & Witkin (SIGGRAPH
 //! 1998) do for cloth; their method is the first Newton iteration of this one.
 //! First order and L-stable: stiff canopies settle at steps far beyond the
-//! explicit limit of seed 000 eq. (3.7).
+//! explicit limit of dissertation eq. (3.7).
 
 use super::newton::{Newton, Target};
 use super::*;

@@ -1,4 +1,4 @@
-//! Adaptive Dormand–Prince 5(4), beyond the seeds: the embedded Runge–Kutta
+//! Adaptive Dormand–Prince 5(4), beyond the dissertation and the thesis: the embedded Runge–Kutta
 //! pair of Dormand & Prince (J. Comput. Appl. Math. 6, 19–26, 1980), as in
 //! Hairer, Nørsett & Wanner, Solving ODEs I, §II.5 (table 5.2) and §II.4
 //! (step control). Each call covers the step h with as many internal steps

@@ -1,4 +1,4 @@
-//! Euler–Cromer (symplectic Euler), seed 003 eqs. (15)–(16): velocity first,
+//! Euler–Cromer (symplectic Euler), thesis eqs. (15)–(16): velocity first,
 //! then position with the new velocity. First order, but it keeps the energy of
 //! an undamped oscillator bounded.
 

@@ -1,4 +1,4 @@
-//! Euler–Richardson, seed 003 eqs. (17)–(22): a half step to the midpoint, then
+//! Euler–Richardson, thesis eqs. (17)–(22): a half step to the midpoint, then
 //! the full step with the midpoint rates. Second order, two forces per step.
 
 use super::*;

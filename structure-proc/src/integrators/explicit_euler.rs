@@ -1,4 +1,4 @@
-//! Explicit (forward) Euler, seed 003 §2.4.1, eq. (12): x and v both advance with
+//! Explicit (forward) Euler, thesis §2.4.1, eq. (12): x and v both advance with
 //! the rates at the start of the step. First order; gains energy on oscillators.
 
 use super::*;

@@ -1,4 +1,4 @@
-//! Improved explicit Euler (Heun), seed 003 eqs. (23)–(24): an Euler predictor,
+//! Improved explicit Euler (Heun), thesis eqs. (23)–(24): an Euler predictor,
 //! then the trapezoidal rule with the rates at both ends. Second order.
 
 use super::*;

@@ -1,4 +1,4 @@
-//! Kang's fast approximated implicit method, seed 003 eqs. (52)–(57) (Kang, Choi,
+//! Kang's fast approximated implicit method, thesis eqs. (52)–(57) (Kang, Choi,
 //! Cho & Lee 2000). Backward Euler needs (M + Δt²K)⁻¹; Kang replaces it by one
 //! Jacobi-like sweep over the spring graph:
 //!   Δv_i = (F_i Δt + Δt² Σ_j k_ij F_j Δt/(m_j + Δt² K_j)) / (m_i + Δt² K_i),

@@ -1,4 +1,4 @@
-//! The time integrators of seed 003 §2.4 plus backward Euler, each implemented
+//! The time integrators of thesis §2.4 plus backward Euler, each implemented
 //! once against [`Integrator`] and used by every scene.
 //!
 //! An integrator advances the flat state (x, v) of a [`System`]. Nodes with
@@ -87,7 +87,7 @@ pub fn theoretical_order(scheme: Scheme) -> u32 {
         | Scheme::Kang
         | Scheme::BackwardEuler { .. } => 1,
         Scheme::EulerRichardson | Scheme::ImprovedEuler | Scheme::VelocityVerlet => 2,
-        // γ = 1/2 gives second order; any other γ, first (seed 003 §2.4.5).
+        // γ = 1/2 gives second order; any other γ, first (thesis §2.4.5).
         Scheme::Newmark { gamma, alpha, .. } => {
             if (gamma - 0.5 + alpha).abs() < 1e-12 {
                 2

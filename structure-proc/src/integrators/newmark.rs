@@ -1,4 +1,4 @@
-//! Newmark's method, seed 003 eqs. (25)–(26), and its HHT-α extension (§2.4.7):
+//! Newmark's method, thesis eqs. (25)–(26), and its HHT-α extension (§2.4.7):
 //!   x₊ = x + Δt v + (½ − β) Δt² a + β Δt² a₊,
 //!   v₊ = v + (1 − γ) Δt a + γ Δt a₊,
 //!   M a₊ = (1 + α) F(x₊, v₊) − α F(x, v)      (α = 0: Newmark).

@@ -1,4 +1,4 @@
-//! Classical fourth-order Runge–Kutta on the state (x, v), seed 003 eqs. (42)–(51).
+//! Classical fourth-order Runge–Kutta on the state (x, v), thesis eqs. (42)–(51).
 
 use super::*;
 

@@ -1,4 +1,4 @@
-//! Velocity Verlet, seed 003 eqs. (37)–(40): half kick, drift, half kick.
+//! Velocity Verlet, thesis eqs. (37)–(40): half kick, drift, half kick.
 //! Second order and symplectic for forces that depend on position only.
 //!
 //! Eq. (39) needs v_{n+1} inside a velocity-dependent (damping) force before it

@@ -25,7 +25,7 @@ pub fn membrane(young_modulus: f64, poisson_ratio: f64, thickness: f64) -> Elast
     })
 }
 
-/// The annulus canopy of seed 003 §3.2 (rim fixed) with the given elasticity.
+/// The annulus canopy of thesis §3.2 (rim fixed) with the given elasticity.
 pub fn canopy(e: Elasticity, gravity: [f64; 3], damping: Option<Law>) -> Model {
     let (stiffness, fibre, membrane) = match e {
         Elasticity::Uniform(k) => (Some(k), None, None),

@@ -25,6 +25,13 @@ fn sod_with(from: &str, to: &str) -> String {
 
 pub const CASES: &[Case] = &[
     Case {
+        name: "flow-huge-box-bound",
+        edit: |_| cavity_with("upper = [1.0, 1.0,", "upper = [1e308, 1.0,"),
+        key: Some("fluid.box.upper"),
+        says: "is beyond the 1e30",
+        line_of: Some("upper = [1e308"),
+    },
+    Case {
         name: "flow-unpaired-periodic",
         edit: |_| cavity_with("y_high =", "x_low = \"periodic\"\ny_high ="),
         key: Some("fluid.sides.x_low"),

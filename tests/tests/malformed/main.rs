@@ -466,9 +466,40 @@ const CASES: &[Case] = &[
         says: "radius = -0.1 must be > 0 m",
         line_of: Some("shape = "),
     },
+    Case {
+        name: "huge-stiffness",
+        edit: |t| replace(t, "stiffness = 1.0e5", "stiffness = 1e308"),
+        key: Some("structure.strings[0].stiffness"),
+        says: "is beyond the 1e30 N/m canopy accepts",
+        line_of: Some("stiffness = 1e308"),
+    },
+    Case {
+        name: "huge-areal-density",
+        edit: |t| replace(t, "[rigid]\n", CLOTH_1E308),
+        key: Some("structure.cloth.fabric.areal_density"),
+        says: "is beyond the 1e30 kg/m² canopy accepts",
+        line_of: Some("areal_density = 1e308"),
+    },
+    Case {
+        name: "output-interval-below-the-clock",
+        edit: |t| replace(t, "output_interval = 0.05", "output_interval = 1e-17"),
+        key: Some("run.output_interval"),
+        says: "asks for more than",
+        line_of: Some("output_interval = 1e-17"),
+    },
+    Case {
+        name: "cut-short-after-a-key",
+        edit: |t| t[..t.find("window = 1e-3").unwrap() + "window =".len()].to_string(),
+        key: None,
+        says: "the file ends where a value should follow: is it cut short?",
+        line_of: Some("window ="),
+    },
 ];
 
-/// The porous load of `[structure.porous]` (seed 003 eqs. 6–10), appended to a scenario.
+/// A cloth whose areal density would overflow the arithmetic, put before `[rigid]`.
+const CLOTH_1E308: &str = "[structure.cloth]\nwidth = 1.0\ndepth = 1.0\nnodes_x = 3\nnodes_y = 3\norigin = [0.0, 0.0, 0.0]\n\n[structure.cloth.fabric]\nareal_density = 1e308\nstiffness = 10.0\n\n[rigid]\n";
+
+/// The porous load of `[structure.porous]` (thesis eqs. 6–10), appended to a scenario.
 const POROUS: &str = "[structure.porous]\nfree_stream = [0.0, 0.0, 1.0]\nporosity = 0.1\ndiameter = 1e-3\nthickness = 1e-4\n";
 
 /// 1-based line of the first occurrence of `needle` (which may span lines: its first line counts).
@@ -528,6 +559,22 @@ fn every_malformed_scenario_gets_its_own_message_and_exit_code_2() {
         }
     }
     assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+}
+
+#[test]
+fn a_fifo_given_as_the_scenario_is_refused_not_waited_on() {
+    // Reading a FIFO blocks until a writer comes, which never does.
+    let dir = scratch("fifo");
+    let fifo = dir.join("scenario.toml");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: mkfifo only reads the path we pass.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    let started = std::time::Instant::now();
+    let out = coupler(&["check", fifo.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("it is not a regular file"), "{stderr}");
+    assert!(started.elapsed() < std::time::Duration::from_secs(10));
 }
 
 #[test]
