@@ -1,7 +1,9 @@
 //! Helpers for canopy's integration tests: build the executables, run the
 //! coupler, read what a run left behind.
 
-use scenario::Scenario;
+mod scene;
+
+pub use scene::{ParticipantSpec, Scenario};
 use std::path::{Path, PathBuf};
 use std::process::Output;
 use std::sync::Once;
@@ -19,22 +21,34 @@ fn target_dir() -> PathBuf {
         .unwrap_or_else(|| workspace().join("target"))
 }
 
+/// `cargo build --release ARGS` in the workspace; panics with cargo's
+/// stderr if it fails.
+fn cargo_build(args: &[&str]) {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = std::process::Command::new(cargo)
+        .current_dir(workspace())
+        .args(["build", "--release"])
+        .args(args)
+        .output()
+        .expect("run cargo build");
+    assert!(
+        out.status.success(),
+        "cargo build {args:?} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// Build every executable of the workspace once (release), so tests launch what the README launches.
 pub fn ensure_built() {
     static BUILD: Once = Once::new();
-    BUILD.call_once(|| {
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let out = std::process::Command::new(cargo)
-            .current_dir(workspace())
-            .args(["build", "--release", "--bins"])
-            .output()
-            .expect("run cargo build");
-        assert!(
-            out.status.success(),
-            "cargo build failed:\n{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-    });
+    BUILD.call_once(|| cargo_build(&["--bins"]));
+}
+
+/// Example `name` of workspace package `package`, built (release).
+pub fn example_exe(package: &str, name: &str) -> PathBuf {
+    ensure_built();
+    cargo_build(&["-p", package, "--example", name]);
+    target_dir().join("release").join("examples").join(name)
 }
 
 /// fluid-proc built with its `mpi` feature, in a target directory of its

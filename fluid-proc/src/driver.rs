@@ -7,9 +7,9 @@
 use crate::comm::Single;
 use crate::flow_run::{self, fail};
 use crate::{check_triangles, gas_run, ranks, triangles_from_field, Porous};
+use fluid_section::FluidModel;
+use fluid_section::{FluidSection, Scene};
 use participant::{Cadence, Command, Declaration, Joining, Monitor, Participant};
-use scenario::fluid::FluidModel;
-use scenario::{FluidSection, Scenario};
 use std::sync::Arc;
 
 pub type Error = Box<dyn std::error::Error>;
@@ -50,14 +50,11 @@ pub fn run() -> Result<(), Error> {
 }
 
 /// Connects to the coupler; the scenario and its `[fluid]` section.
-pub(crate) fn connect() -> Result<(Joining, Scenario, FluidSection), Error> {
+pub(crate) fn connect() -> Result<(Joining, Scene, FluidSection), Error> {
     let joining = participant::connect()?;
-    let scenario = Scenario::from_resolved(joining.scenario())?;
-    let section = scenario
-        .fluid
-        .clone()
-        .ok_or("the scenario has no [fluid] section")?;
-    Ok((joining, scenario, section))
+    let scene = Scene::load(joining.scenario_path(), joining.scenario())?;
+    let section = scene.fluid.clone();
+    Ok((joining, scene, section))
 }
 
 /// What a flow exchanges, once a window: the canopy in and its pressure
@@ -78,7 +75,7 @@ pub(crate) fn declaration(bodies: usize, with_bodies: bool, monitors: Vec<String
 }
 
 /// The porous free-stream model: a pressure jump per canopy triangle.
-fn run_porous(joining: Joining, scenario: &Scenario, section: &FluidSection) -> Result<(), Error> {
+fn run_porous(joining: Joining, scenario: &Scene, section: &FluidSection) -> Result<(), Error> {
     let load = section
         .porous_load()
         .ok_or("[fluid] lacks a key of the porous free-stream model")?;

@@ -7,10 +7,10 @@ use crate::immersed::{place_markers, ImmersedBody, RETRACTION};
 use crate::incompressible::Incompressible;
 use crate::pressure_force::pressure_load;
 use crate::surface::Surface;
+use fluid_section::Scene;
 use participant::Monitor;
 use rigid_proc::body::STATE_LEN;
 use rigid_proc::Body;
-use scenario::Scenario;
 
 pub struct FlowBodies {
     bodies: Vec<Body>,
@@ -23,7 +23,7 @@ impl FlowBodies {
     /// placed in `flow` at their initial poses. Mass points have no
     /// surface: the dissertation's mass-point parachutist, outside the flow.
     pub fn new(
-        scenario: &Scenario,
+        scenario: &Scene,
         flow: &mut Incompressible,
         origin: [f64; 3],
     ) -> Result<FlowBodies, String> {

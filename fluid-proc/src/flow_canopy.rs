@@ -10,7 +10,7 @@ use crate::grid::Grid;
 use crate::immersed::ImmersedBody;
 use crate::incompressible::Incompressible;
 use crate::{check_triangles, triangles_from_field, Porous};
-use scenario::FluidSection;
+use fluid_section::FluidSection;
 
 /// How far a canopy's extent along a 2-D flow's thin axis may differ from
 /// the box's depth, relative: the fabric stretches a little across it.

@@ -20,9 +20,9 @@ use crate::flow_canopy::FlowCanopy;
 use crate::incompressible::{Incompressible, StepReport};
 use crate::ranks::{Order, Stopped};
 use crate::setup::flow_on;
+use fluid_section::{FluidSection, Scene};
 use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
-use scenario::{FluidSection, Scenario};
 use std::sync::Arc;
 
 /// One rank's flow, and its faces at the start of the window.
@@ -124,7 +124,7 @@ fn monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> V
 /// schedule and finishes.
 pub fn lead(
     joining: Joining,
-    scenario: &Scenario,
+    scenario: &Scene,
     section: &FluidSection,
     comm: Arc<dyn Comm>,
 ) -> Result<(), Stopped> {
@@ -142,7 +142,7 @@ pub fn lead(
     names.extend(bodies.monitors(&f.flow, None).into_iter().map(|m| m.name));
     // The canopy's jump is monitored when a structure takes part, which
     // writes the canopy.
-    let jump_monitor = scenario.participants.structure.is_some();
+    let jump_monitor = scenario.scenario.participants.lists("structure");
     if jump_monitor {
         names.push("mean_pressure_jump".into());
     }

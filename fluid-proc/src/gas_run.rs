@@ -10,9 +10,9 @@ use crate::driver::{declaration, Error};
 use crate::gas::Primitive;
 use crate::ranks::{Order, Stopped};
 use crate::setup::gas_on;
+use fluid_section::FluidSection;
 use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
-use scenario::FluidSection;
 use std::sync::Arc;
 
 /// What obeying an order gave; only rank 0's is used.

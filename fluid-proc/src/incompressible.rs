@@ -29,7 +29,7 @@ use crate::poisson::{Poisson, SolveError};
 use crate::projection::{for_each_gradient, project};
 use crate::side::{bcs, Sides};
 use crate::viscosity::{laplacian, Helmholtz, ViscousError};
-use scenario::flow::MAX_COURANT;
+use fluid_section::flow::MAX_COURANT;
 
 /// Relative residual of the pressure solve.
 pub const PRESSURE_TOLERANCE: f64 = 1e-8;

@@ -1,6 +1,10 @@
 //! fluid-proc: the flow models taking part in a coupled run.
 
+use fluid_section::Scene;
+
 fn main() {
+    // `fluid-proc --check SCENARIO`: the [fluid] table, checked.
+    scenario::answer_check(|path, text| Scene::load(path, text).map(|_| Default::default()));
     if let Err(e) = fluid_proc::driver::run() {
         eprintln!("fluid-proc: {e}");
         std::process::exit(1);

@@ -106,17 +106,19 @@ impl Stopped {
 pub fn ranks() -> Result<(), Error> {
     use crate::mpi_comm::MpiComm;
     use crate::{flow_run, gas_run};
-    use scenario::fluid::FluidModel;
-    use scenario::Scenario;
+    use fluid_section::FluidModel;
+    use fluid_section::Scene;
     use std::sync::Arc;
     let universe = mpi::initialize().ok_or("MPI was initialised twice")?;
     let mpi = Arc::new(MpiComm::new(&universe));
     let comm: Arc<dyn Comm> = mpi.clone();
-    let mut text = String::new();
+    let (mut path, mut text) = (String::new(), String::new());
     let result = if comm.rank() == 0 {
         (|| -> Result<(), Stopped> {
             let (joining, scenario, section) = crate::driver::connect()?;
+            path = joining.scenario_path().display().to_string();
             text = joining.scenario().to_string();
+            comm.broadcast_text(&mut path);
             comm.broadcast_text(&mut text);
             match section.model {
                 FluidModel::Euler => gas_run::lead(joining, &section, comm.clone()),
@@ -130,12 +132,10 @@ pub fn ranks() -> Result<(), Error> {
             }
         })()
     } else {
+        comm.broadcast_text(&mut path);
         comm.broadcast_text(&mut text);
         (|| -> Result<(), Stopped> {
-            let scenario = Scenario::from_resolved(&text)?;
-            let section = scenario
-                .fluid
-                .ok_or("the scenario has no [fluid] section")?;
+            let section = Scene::load(std::path::Path::new(&path), &text)?.fluid;
             match section.model {
                 FluidModel::Euler => gas_run::follow(&section, comm.clone())?,
                 FluidModel::Incompressible => flow_run::follow(&section, comm.clone())?,

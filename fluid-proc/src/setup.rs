@@ -8,8 +8,8 @@ use crate::grid::Grid;
 use crate::incompressible::{FlowSetup, Incompressible};
 use crate::part::Part;
 use crate::side::{bcs, Side};
-use scenario::flow::SideSpec;
-use scenario::FluidSection;
+use fluid_section::flow::SideSpec;
+use fluid_section::FluidSection;
 use std::sync::Arc;
 
 /// The flow of `[fluid]` with model = "incompressible", at its initial

@@ -173,7 +173,7 @@ fn split(p: [Point3<f64>; 3], w: [[f64; 3]; 3], spacing: f64, f: &mut impl FnMut
 #[cfg(test)]
 mod tests {
     use super::*;
-    use scenario::rigid::ShapeSpec;
+    use rigid_section::ShapeSpec;
 
     fn shape(spec: ShapeSpec) -> Shape {
         Shape::from_spec(&spec).unwrap()

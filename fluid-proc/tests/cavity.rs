@@ -6,7 +6,7 @@
 
 use fluid_proc::profile::{extremum, face_line, value_at, CAVITY_RE100_EXTREMA as CONVERGED};
 use fluid_proc::setup::flow_from;
-use scenario::flow::SideSpec;
+use fluid_section::flow::SideSpec;
 
 /// Ghia et al. Table I, Re = 100: (y, u) on x = 0.5.
 const GHIA_U: [(f64, f64); 17] = [
@@ -55,8 +55,9 @@ fn the_cavity_at_re_100_matches_ghia_and_the_converged_extrema() {
     // The shipped scene, run to its end (t = 15 s, steady to a few 1e-5
     // m/s²) by the library without the coupler.
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/cavity.toml");
-    let scenario = scenario::Scenario::load(std::path::Path::new(path)).expect("shipped scenario");
-    let section = scenario.fluid.as_ref().expect("[fluid]");
+    let scenario =
+        fluid_section::Scene::load_file(std::path::Path::new(path)).expect("shipped scenario");
+    let section = &scenario.fluid;
     let lid = match section.resolved_sides().unwrap()[1][1] {
         SideSpec::Velocity(v) => v[0],
         s => panic!("the lid is {s:?}"),

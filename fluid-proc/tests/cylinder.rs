@@ -20,7 +20,7 @@ use fluid_proc::side::{bcs, parabola, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::Isometry3;
 use rigid_proc::shape::Shape;
-use scenario::rigid::ShapeSpec;
+use rigid_section::ShapeSpec;
 
 const LENGTH: f64 = 2.2;
 const HEIGHT: f64 = 0.41;

@@ -39,9 +39,8 @@ fn the_shu_osher_problem_runs_without_oscillations() {
     // scheme's grows instead (WENO5 on the conserved components instead of
     // the characteristic fields, tried: 0.029 at 400, 0.042 at 800).
     let mut scenario = shipped("shu-osher");
-    let cells = |s: &mut scenario::Scenario, n: u32| {
-        s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap().cells[0] = n
-    };
+    let cells =
+        |s: &mut fluid_section::Scene, n: u32| s.fluid.flow_box.as_mut().unwrap().cells[0] = n;
     cells(&mut scenario, 800);
     let gas = run_to_end(&scenario);
     let coarse = gas.primitives();

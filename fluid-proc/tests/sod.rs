@@ -92,7 +92,7 @@ fn mass_and_energy_are_conserved_and_momentum_grows_by_the_end_pressures() {
     // them but the momentum flux p: d(Σ ρu V)/dt = (p_left − p_right)·A.
     let scenario = shipped("sod");
     let t = scenario.run.end_time;
-    let b = scenario.fluid.as_ref().unwrap().flow_box.unwrap();
+    let b = scenario.fluid.flow_box.unwrap();
     let area = (b.upper[1] - b.lower[1]) * (b.upper[2] - b.lower[2]);
     let before = common::run_to(&scenario, 0.0).totals();
     let after = run_to_end(&scenario).totals();
@@ -109,10 +109,10 @@ fn a_closed_tube_keeps_its_mass_and_energy_through_the_reflections() {
     // rarefaction cross the tube and reflect several times. The walls let
     // no mass or energy through, so both stay put to round-off.
     let mut scenario = shipped("sod");
-    let fluid = scenario.fluid.as_mut().unwrap();
+    let fluid = &mut scenario.fluid;
     let mut sides = fluid.sides.unwrap();
-    sides.x_low = Some(scenario::flow::SideSpec::Wall);
-    sides.x_high = Some(scenario::flow::SideSpec::Wall);
+    sides.x_low = Some(fluid_section::flow::SideSpec::Wall);
+    sides.x_high = Some(fluid_section::flow::SideSpec::Wall);
     fluid.sides = Some(sides);
     scenario.run.end_time = 1.0;
     let before = common::run_to(&scenario, 0.0).totals();
@@ -132,7 +132,7 @@ fn the_tube_gives_the_same_gas_along_y_and_z() {
     let along_x: Vec<Primitive> = run_to_end(&scenario).primitives();
     for axis in [1, 2] {
         let mut turned = scenario.clone();
-        let fluid = turned.fluid.as_mut().unwrap();
+        let fluid = &mut turned.fluid;
         let b = fluid.flow_box.as_mut().unwrap();
         let turn = |v: [f64; 3]| {
             let mut t = v;

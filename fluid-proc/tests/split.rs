@@ -24,7 +24,7 @@ use fluid_proc::side::{bcs, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::{Isometry3, Vector3};
 use rigid_proc::shape::Shape;
-use scenario::rigid::ShapeSpec;
+use rigid_section::ShapeSpec;
 use std::collections::{HashMap, VecDeque};
 use std::f64::consts::PI;
 use std::sync::{Arc, Condvar, Mutex};

@@ -136,7 +136,7 @@ fn a_nearly_inviscid_periodic_flow_never_gains_energy_at_the_courant_limit() {
         }
     }
     flow.impose_sides();
-    let dt = scenario::flow::MAX_COURANT / flow.courant(1.0);
+    let dt = fluid_section::flow::MAX_COURANT / flow.courant(1.0);
     let mut energy = flow.kinetic_energy();
     for step in 0..1000 {
         flow.step(dt).unwrap();

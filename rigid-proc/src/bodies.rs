@@ -6,8 +6,8 @@ use crate::body::{Body, MOMENTUM_LEN, STATE_LEN};
 use crate::contact;
 use crate::motion::{advance, Load};
 use nalgebra::Vector3;
-use scenario::rigid::{pair_restitution, RigidSection};
-use scenario::structure::AttachmentSpec;
+use rigid_section::AttachmentSpec;
+use rigid_section::{pair_restitution, RigidSection};
 
 #[derive(Clone)]
 pub struct Bodies {

@@ -6,7 +6,7 @@ use crate::euler_parameters::{self as ep, EulerParameters};
 use crate::mass::MassProperties;
 use crate::shape::Shape;
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
-use scenario::rigid::{BodySpec, Motion};
+use rigid_section::{BodySpec, Motion};
 
 /// Values per body in the exchanged state (see [`Body::write_state`]).
 pub const STATE_LEN: usize = 13;

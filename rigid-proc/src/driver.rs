@@ -10,7 +10,7 @@ use crate::{Bodies, Load};
 use nalgebra::Vector3;
 use participant::vtu::Series;
 use participant::{Advance, Cadence, Command, Declaration, Monitor, Participant};
-use scenario::Scenario;
+use rigid_section::Scene;
 
 type Error = Box<dyn std::error::Error>;
 
@@ -112,18 +112,9 @@ fn declaration(b: &Bodies, n_i: u32) -> Declaration {
 /// scenario's `[rigid]` section and step them to the end of the schedule.
 pub fn run() -> Result<(), Error> {
     let joining = participant::connect()?;
-    let scenario = Scenario::from_resolved(joining.scenario())?;
-    let section = scenario
-        .rigid
-        .as_ref()
-        .ok_or("the scenario has no [rigid] section")?;
-    let attached = scenario
-        .structure
-        .as_ref()
-        .map(|s| s.attachments())
-        .unwrap_or_default();
-    let bodies = Bodies::new(section, &attached)?;
-    let n_i = scenario.coupling.impulse_substeps;
+    let scene = Scene::load(joining.scenario_path(), joining.scenario())?;
+    let bodies = Bodies::new(&scene.rigid, &scene.attachments)?;
+    let n_i = scene.scenario.coupling.impulse_substeps;
     let mut p = joining.declare(declaration(&bodies, n_i))?;
     let mut d = Driven {
         // Centres of mass of every body, and the surfaces of bodies with shapes.

@@ -8,7 +8,7 @@ use crate::body::{Body, State};
 use crate::euler_parameters as ep;
 use crate::rk4::rk4;
 use nalgebra::{Rotation3, Vector3, Vector4};
-use scenario::rigid::Motion;
+use rigid_section::Motion;
 
 /// Force and torque about the centre of mass [N, N·m], world axes, held
 /// over a step (the fluid's eq. 2.40 load, for instance).

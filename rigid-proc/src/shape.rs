@@ -4,8 +4,8 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::shape::{SharedShape, TriMeshFlags};
-use scenario::mesh::TriangleMesh;
-use scenario::rigid::ShapeSpec;
+use rigid_section::mesh::TriangleMesh;
+use rigid_section::ShapeSpec;
 use std::f64::consts::FRAC_PI_2;
 
 /// Segments around a sphere or cylinder when it is drawn.

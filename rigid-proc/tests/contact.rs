@@ -3,7 +3,7 @@
 //! with C_R = 1 the kinetic energy, rotation included.
 
 use rigid_proc::Bodies;
-use scenario::rigid::RigidSection;
+use rigid_section::RigidSection;
 
 const SCENE: &str = r#"
 gravity = [0.0, 0.0, 0.0]

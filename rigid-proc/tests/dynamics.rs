@@ -6,7 +6,7 @@ use rigid_proc::euler_parameters as ep;
 use rigid_proc::mass::MassProperties;
 use rigid_proc::motion::{advance, Load};
 use rigid_proc::{Body, State};
-use scenario::rigid::Motion;
+use rigid_section::Motion;
 
 /// A free body with principal moments `i` [kg·m²], mass 1 kg, at rest at the
 /// origin with orientation `e` and body angular velocity `w`.

@@ -5,8 +5,8 @@ use nalgebra::Vector3;
 use parry3d_f64::shape::Ball;
 use rigid_proc::mass::MassProperties;
 use rigid_proc::shape::Shape;
-use scenario::mesh::TriangleMesh;
-use scenario::rigid::ShapeSpec;
+use rigid_section::mesh::TriangleMesh;
+use rigid_section::ShapeSpec;
 use std::f64::consts::PI;
 
 fn of(spec: ShapeSpec, density: f64) -> MassProperties {

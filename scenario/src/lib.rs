@@ -1,28 +1,21 @@
-//! Scenario files: TOML parsed with serde, unknown keys rejected, every value
-//! checked, every problem reported as one message naming the file, line and key.
+//! Scenario files, the part every participant shares: `[run]`, `[coupling]`
+//! and `[participants]`, parsed with serde, unknown keys rejected, every
+//! value checked. Every other table belongs to the participant of the same
+//! name, whose program reads and checks it ([`section`], [`answer`]); every
+//! problem is reported as one message naming the file, line and key.
 
-mod canopy_flow;
+pub mod answer;
 mod check;
-pub mod collision;
 mod error;
-pub mod flow;
-pub mod fluid;
-pub mod gas;
-pub mod integrator;
-pub mod mesh;
-pub mod parachute;
-pub mod rigid;
+pub mod section;
 mod spans;
-pub mod stability;
-pub mod structure;
 
-pub use check::Checker;
+pub use answer::{answer_check, Answer, CHECK_FLAG};
+pub use check::{path_string, Checker, Problem, Seg, MAX_MAGNITUDE, MIN_POSITIVE};
 pub use error::ScenarioError;
-pub use fluid::{FluidSection, PorousLoad};
-pub use rigid::RigidSection;
-pub use structure::StructureSection;
 
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Most coupling windows one run may take.
@@ -34,19 +27,17 @@ pub const MAX_TIMEOUT: f64 = 86_400.0;
 /// Most MPI ranks a participant may ask for (guards against typos).
 pub const MAX_RANKS: f64 = 4096.0;
 
-/// A whole scenario file.
+/// The coupling part of a scenario file, with the names of the
+/// participants' own tables.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct Scenario {
     pub run: RunSection,
     pub coupling: CouplingSection,
     pub participants: Participants,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fluid: Option<FluidSection>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub structure: Option<StructureSection>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub rigid: Option<RigidSection>,
+    /// The file's other top-level tables, in file order: each is the
+    /// section of the listed participant of the same name.
+    #[serde(skip)]
+    pub sections: Vec<String>,
 }
 
 /// `[run]`: what is simulated and for how long.
@@ -96,24 +87,23 @@ fn default_timeout() -> f64 {
     60.0
 }
 
-/// The participants a scenario may list, each with a section of the same
-/// name that its program reads.
+/// canopy's own participants, in the order they start and their monitors'
+/// columns appear; any other name a scenario lists comes after them, in
+/// alphabetical order.
 pub const PARTICIPANTS: [&str; 3] = ["fluid", "structure", "rigid"];
 
-/// `[participants]`: the processes this scene starts. A role not listed is not
-/// started and exchanges nothing.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Participants {
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fluid: Option<ParticipantSpec>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub structure: Option<ParticipantSpec>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub rigid: Option<ParticipantSpec>,
-}
+/// The coupling sections, which the coupler reads; no participant may take
+/// their names.
+pub const COUPLING_SECTIONS: [&str; 3] = ["run", "coupling", "participants"];
 
-/// Which executable plays a role: any program that speaks the protocol.
+/// `[participants]`: the processes this scene starts, by name. A name not
+/// listed is not started and exchanges nothing.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct Participants(BTreeMap<String, ParticipantSpec>);
+
+/// Which executable plays a participant: any program that speaks the
+/// protocol (docs/PROTOCOL.md).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParticipantSpec {
@@ -122,13 +112,23 @@ pub struct ParticipantSpec {
     pub program: String,
     #[serde(default)]
     pub args: Vec<String>,
-    /// MPI ranks to run on (fluid only): more than one starts the program
-    /// under `mpirun -n ranks`.
+    /// MPI ranks to run on: more than one starts the program under
+    /// `mpirun -n ranks` (a program that runs as one process refuses it in
+    /// its `--check`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ranks: Option<u32>,
 }
 
 impl ParticipantSpec {
+    /// The program alone, with no arguments, on one rank.
+    pub fn program(program: &str) -> ParticipantSpec {
+        ParticipantSpec {
+            program: program.to_string(),
+            args: Vec::new(),
+            ranks: None,
+        }
+    }
+
     /// The ranks it runs on (1 unless `ranks` is given).
     pub fn ranks(&self) -> u32 {
         self.ranks.unwrap_or(1)
@@ -138,79 +138,84 @@ impl ParticipantSpec {
 impl Participants {
     /// The participant called `name`, if the scenario lists it.
     pub fn get(&self, name: &str) -> Option<&ParticipantSpec> {
-        match name {
-            "fluid" => self.fluid.as_ref(),
-            "structure" => self.structure.as_ref(),
-            "rigid" => self.rigid.as_ref(),
-            _ => None,
-        }
+        self.0.get(name)
     }
 
     pub fn get_mut(&mut self, name: &str) -> Option<&mut ParticipantSpec> {
-        match name {
-            "fluid" => self.fluid.as_mut(),
-            "structure" => self.structure.as_mut(),
-            "rigid" => self.rigid.as_mut(),
-            _ => None,
-        }
+        self.0.get_mut(name)
     }
 
-    /// The listed participants' names, in the order of [`PARTICIPANTS`].
-    pub fn names(&self) -> Vec<&'static str> {
-        PARTICIPANTS
-            .into_iter()
-            .filter(|n| self.get(n).is_some())
-            .collect()
+    /// Whether the scenario lists a participant called `name`.
+    pub fn lists(&self, name: &str) -> bool {
+        self.0.contains_key(name)
+    }
+
+    /// Lists (or replaces) the participant `name`.
+    pub fn insert(&mut self, name: &str, spec: ParticipantSpec) {
+        self.0.insert(name.to_string(), spec);
+    }
+
+    /// Removes the participant `name` from the list.
+    pub fn remove(&mut self, name: &str) -> Option<ParticipantSpec> {
+        self.0.remove(name)
+    }
+
+    /// The listed participants' names: canopy's own in the order of
+    /// [`PARTICIPANTS`], then the others alphabetically.
+    pub fn names(&self) -> Vec<&str> {
+        let own = PARTICIPANTS.into_iter().filter(|n| self.lists(n));
+        let others = self
+            .0
+            .keys()
+            .map(String::as_str)
+            .filter(|n| !PARTICIPANTS.contains(n));
+        own.chain(others).collect()
     }
 }
 
 impl Scenario {
-    /// Read, parse and check a scenario file.
+    /// Read, parse and check the coupling part of a scenario file.
     pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
-        let text = read_text(path)?;
-        let mut scenario = Scenario::parse(path, &text)?;
-        // Files a scenario names are relative to it; read them now, so a bad
-        // mesh stops the run before any process starts.
-        let dir = path.parent().unwrap_or(Path::new("."));
-        if let Some(rigid) = &mut scenario.rigid {
-            rigid.resolve_meshes(dir).map_err(|(i, e)| {
-                let at = |k: &str| check::Seg::Key(k.into());
-                let problem = check::Problem {
-                    path: vec![
-                        at("rigid"),
-                        at("bodies"),
-                        check::Seg::Index(i),
-                        at("shape"),
-                        at("file"),
-                    ],
-                    message: e.to_string(),
-                };
-                ScenarioError::from_problem(path, &text, problem)
-            })?;
-        }
+        Scenario::parse(path, &read_text(path)?)
+    }
+
+    /// Parse and check the coupling part of scenario text; `path` names the
+    /// file in messages.
+    pub fn parse(path: &Path, text: &str) -> Result<Scenario, ScenarioError> {
+        let missing = |name: &str| ScenarioError {
+            file: path.to_path_buf(),
+            line: None,
+            column: None,
+            key: Some(name.to_string()),
+            message: format!("the scenario has no [{name}] table"),
+        };
+        let scenario = Scenario {
+            run: section::read(path, text, "run")?.ok_or_else(|| missing("run"))?,
+            coupling: section::read(path, text, "coupling")?.ok_or_else(|| missing("coupling"))?,
+            participants: section::read(path, text, "participants")?
+                .ok_or_else(|| missing("participants"))?,
+            sections: section::table_names(path, text)?
+                .into_iter()
+                .filter(|n| !COUPLING_SECTIONS.contains(&n.as_str()))
+                .collect(),
+        };
+        section::checked(path, text, |c| scenario.check(c))?;
         Ok(scenario)
     }
 
-    /// Parse and check scenario text; `path` is only used in messages.
-    pub fn parse(path: &Path, text: &str) -> Result<Scenario, ScenarioError> {
-        let scenario: Scenario =
-            toml::from_str(text).map_err(|e| ScenarioError::from_toml(path, text, &e))?;
-        let mut checker = Checker::default();
-        scenario.check(&mut checker);
-        match checker.into_problem() {
-            None => Ok(scenario),
-            Some(p) => Err(ScenarioError::from_problem(path, text, p)),
+    /// Refuses `ranks` for participant `name`, played by `program`, which
+    /// runs as one process (only a program built for MPI takes ranks).
+    pub fn check_one_process(&self, c: &mut Checker, name: &str, program: &str) {
+        let ranks = self.participants.get(name).and_then(|p| p.ranks);
+        if let Some(ranks) = ranks.filter(|&r| r != 1) {
+            c.problem(
+                &["participants", name, "ranks"],
+                format!(
+                    "ranks = {ranks}: {program} runs as one process; ranks is for a program \
+                     built for MPI, such as fluid-proc"
+                ),
+            );
         }
-    }
-
-    /// Parse the resolved scenario a participant receives in its setup.
-    pub fn from_resolved(text: &str) -> Result<Scenario, ScenarioError> {
-        Scenario::parse(Path::new("<resolved scenario>"), text)
-    }
-
-    /// The scenario with every default filled in, as written to the run directory.
-    pub fn to_toml(&self) -> String {
-        toml::to_string_pretty(self).expect("a scenario always serialises")
     }
 
     /// Number of FSI windows from start to end (the last one may be shortened).
@@ -287,108 +292,46 @@ impl Scenario {
         if self.participants.names().is_empty() {
             c.problem(
                 &["participants"],
-                "lists no participant: name at least one of fluid, structure, rigid".into(),
-            );
-        }
-        for role in PARTICIPANTS {
-            if let Some(spec) = self.participants.get(role) {
-                if spec.program.trim().is_empty() {
-                    c.problem(
-                        &["participants", role, "program"],
-                        "program is empty".into(),
-                    );
-                }
-                if let Some(ranks) = spec.ranks {
-                    let key = ["participants", role, "ranks"];
-                    if role != "fluid" {
-                        c.problem(
-                            &key,
-                            format!(
-                                "ranks is for the fluid participant only; `{}` runs as one process",
-                                role
-                            ),
-                        );
-                    }
-                    c.nonzero(&key, ranks as f64);
-                    c.at_most(&key, ranks as f64, MAX_RANKS);
-                }
-            }
-            let has_section = match role {
-                "fluid" => self.fluid.is_some(),
-                "structure" => self.structure.is_some(),
-                _ => self.rigid.is_some(),
-            };
-            let listed = self.participants.get(role).is_some();
-            if listed && !has_section {
-                c.problem(
-                    &["participants", role],
-                    format!(
-                        "participant `{0}` is listed but the scenario has no [{0}] section",
-                        role
-                    ),
-                );
-            }
-            if has_section && !listed {
-                c.problem(
-                    &[role],
-                    format!(
-                        "[{0}] section given but no participant `{0}` is listed in [participants]",
-                        role
-                    ),
-                );
-            }
-        }
-        if let Some(s) = &self.fluid {
-            s.check(c);
-            // The incompressible flow takes the canopy and rigid bodies
-            // (immersed boundaries); the gas takes neither yet.
-            let coupled =
-                self.participants.structure.is_some() || self.participants.rigid.is_some();
-            if s.model == fluid::FluidModel::Euler && coupled {
-                c.problem(
-                    &["fluid", "model"],
-                    "model = \"euler\" is not coupled to a structure or rigid bodies yet: use \
-                     model = \"incompressible\" or \"porous-free-stream\" for such a scene"
-                        .into(),
-                );
-            }
-            canopy_flow::check(
-                c,
-                s,
-                self.participants.structure.is_some(),
-                self.structure.as_ref(),
-            );
-            let ranks = self.participants.fluid.as_ref().map_or(1, |f| f.ranks());
-            if ranks > 1 {
-                check_ranks(c, s, ranks);
-            }
-            let courant = s.start_courant(k.window).unwrap_or(0.0);
-            if courant > flow::MAX_COURANT {
-                c.problem(
-                    &["coupling", "window"],
-                    format!(
-                        "window = {} s is one flow step, and at the sides' speed it crosses {courant:.3} cells \
-                         (the Courant number): more than {} is unstable, so shorten it",
-                        k.window,
-                        flow::MAX_COURANT
-                    ),
-                );
-            }
-        }
-        let porous_in_structure = self.structure.as_ref().is_some_and(|s| s.porous.is_some());
-        if porous_in_structure && self.participants.fluid.is_some() {
-            c.problem(
-                &["structure", "porous"],
-                "[structure.porous] makes the structure apply the porous load itself, but \
-                 participant `fluid` loads the canopy too: keep one of them"
+                "lists no participant: name at least one, for example fluid, structure or rigid"
                     .into(),
             );
         }
-        if let Some(s) = &self.structure {
-            s.check(c, self.rigid.as_ref());
+        for name in self.participants.names() {
+            self.check_participant(c, name);
         }
-        if let Some(s) = &self.rigid {
-            s.check(c);
+        for name in &self.sections {
+            if !self.participants.lists(name) {
+                c.problem(
+                    &[name],
+                    format!(
+                        "[{name}] section given but no participant `{name}` is listed in \
+                         [participants] (nor is it a coupling section: [run], [coupling], \
+                         [participants])"
+                    ),
+                );
+            }
+        }
+    }
+
+    fn check_participant(&self, c: &mut Checker, name: &str) {
+        let spec = self.participants.get(name).expect("a listed name");
+        c.plain_name(&["participants", name], name, false);
+        if spec.program.trim().is_empty() {
+            c.problem(
+                &["participants", name, "program"],
+                "program is empty".into(),
+            );
+        }
+        if let Some(ranks) = spec.ranks {
+            let key = ["participants", name, "ranks"];
+            c.nonzero(&key, ranks as f64);
+            c.at_most(&key, ranks as f64, MAX_RANKS);
+        }
+        if !self.sections.iter().any(|s| s == name) {
+            c.problem(
+                &["participants", name],
+                format!("participant `{name}` is listed but the scenario has no [{name}] section"),
+            );
         }
     }
 }
@@ -412,49 +355,4 @@ pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
         )));
     }
     std::fs::read_to_string(path).map_err(|e| ScenarioError::io(path, &e))
-}
-
-/// Whether the fluid can run on `ranks` ranks: a model split among ranks
-/// (euler and incompressible), and slabs at least as thick as the
-/// stencil's reach, so that each rank's halo comes from its two neighbours.
-fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32) {
-    let key = ["participants", "fluid", "ranks"];
-    if s.model == fluid::FluidModel::PorousFreeStream {
-        c.problem(
-            &key,
-            format!(
-                "ranks = {ranks}: model = \"{}\" has no cells to split and runs on one rank",
-                s.model.name()
-            ),
-        );
-        return;
-    }
-    let Some(b) = s.flow_box else { return };
-    let axis = if s.model == fluid::FluidModel::Euler {
-        // The one with the most cells, the last of equals.
-        (0..3).rev().max_by_key(|&d| (b.cells[d], d)).unwrap_or(0)
-    } else {
-        // The slowest in memory more than one cell thick (fluid-proc's part.rs).
-        match (1..3).rev().find(|&d| b.cells[d] > 1) {
-            Some(d) => d,
-            None => {
-                c.problem(
-                    &key,
-                    format!("ranks = {ranks}: the incompressible flow is split along y or z, and this box is one cell thick along both"),
-                );
-                return;
-            }
-        }
-    };
-    if u64::from(b.cells[axis]) < u64::from(flow::HALO_CELLS) * u64::from(ranks) {
-        c.problem(
-            &key,
-            format!(
-                "ranks = {ranks} leaves fewer than {} cells per rank along {} ({} cells): use fewer ranks",
-                flow::HALO_CELLS,
-                ["x", "y", "z"][axis],
-                b.cells[axis]
-            ),
-        );
-    }
 }

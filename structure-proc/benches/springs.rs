@@ -12,9 +12,9 @@
 use criterion::{
     black_box, criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput,
 };
-use scenario::structure::{Damping, Integrator as Scheme, StructureSection};
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator, Model};
+use structure_section::{Damping, Integrator as Scheme, StructureSection};
 
 /// The cloth of `scenarios/cloth-hanging.toml` on n × n nodes.
 fn cloth_section(n: u32) -> (StructureSection, f64) {
@@ -22,12 +22,13 @@ fn cloth_section(n: u32) -> (StructureSection, f64) {
         env!("CARGO_MANIFEST_DIR"),
         "/../scenarios/cloth-hanging.toml"
     );
-    let s = scenario::Scenario::load(std::path::Path::new(path)).expect("shipped scenario");
-    let mut section = s.structure.expect("structure section");
+    let s = structure_section::Scene::load_file(std::path::Path::new(path), "structure-proc")
+        .expect("shipped scenario");
+    let mut section = s.structure;
     let cloth = section.cloth.as_mut().expect("cloth");
     cloth.nodes_x = n;
     cloth.nodes_y = n;
-    (section, s.coupling.window)
+    (section, s.scenario.coupling.window)
 }
 
 /// The cloth with uniform springs on its edges plus bending springs, undamped.
@@ -83,7 +84,7 @@ fn step(c: &mut Criterion) {
     g.finish();
 }
 
-fn scheme_of(i: Scheme) -> scenario::structure::Scheme {
+fn scheme_of(i: Scheme) -> structure_section::Scheme {
     let mut section = cloth_section(2).0;
     section.integrator = i;
     section.scheme()

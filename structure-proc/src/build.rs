@@ -8,11 +8,11 @@ use crate::lines::add_line;
 use crate::model::{Attachment, Model, NodeKind, Spring};
 use crate::parachute::circular_canopy;
 use crate::rectangle::{rectangle, Edge};
-use scenario::parachute::CanopyShape;
-use scenario::structure::{Cloth, ClothHold, ClothPlane, Parachute};
-use scenario::structure::{Damping, Elasticity};
-use scenario::{RigidSection, StructureSection};
 use std::collections::BTreeSet;
+use structure_section::parachute::CanopyShape;
+use structure_section::{Cloth, ClothHold, ClothPlane, Parachute};
+use structure_section::{Damping, Elasticity};
+use structure_section::{RigidSection, StructureSection};
 
 /// The model for `[structure]`, with structure step `dt` = Δt_s. The parachute's
 /// confluence and the strings attach to the bodies of `[rigid]`, numbered as

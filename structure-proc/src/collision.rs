@@ -22,8 +22,8 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query::{PointProjection, Ray};
 use parry3d_f64::shape::SharedShape;
 use rigid_proc::body::{Body, MOMENTUM_LEN, STATE_LEN};
-use scenario::structure::Collision;
-use scenario::RigidSection;
+use structure_section::Collision;
+use structure_section::RigidSection;
 
 /// The bodies the structure's free nodes collide with.
 pub struct Obstacles {

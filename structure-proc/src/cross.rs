@@ -7,7 +7,7 @@
 
 use crate::parachute::CanopyMesh;
 use crate::rings::MeshError;
-use scenario::parachute::CanopyGeometry;
+use structure_section::parachute::CanopyGeometry;
 
 /// The cross of `g` in the plane z = `z` with `cells` cells across an arm.
 pub fn cross_canopy(g: &CanopyGeometry, cells: usize, z: f64) -> Result<CanopyMesh, MeshError> {

@@ -7,7 +7,7 @@
 //! the simulated time.
 
 use crate::Model;
-use scenario::Scenario;
+use structure_section::Scene;
 
 /// A node may move at most this many times the scene's speed scale.
 pub const SPEED_FACTOR: f64 = 100.0;
@@ -30,7 +30,7 @@ impl Watch {
     /// free stream (of `[fluid]` or `[structure.porous]`), the flow box's
     /// sides and initial velocity, the speed that gravity
     /// gives in the whole run, |g|·(t_end − t₀), and [`MIN_SPEED_SCALE`].
-    pub fn new(m: &Model, scenario: &Scenario) -> Watch {
+    pub fn new(m: &Model, scene: &Scene) -> Watch {
         let mut w = Watch {
             scale: MIN_SPEED_SCALE,
             source: "the floor of 1 m/s".into(),
@@ -38,10 +38,10 @@ impl Watch {
         let fastest = (0..m.nodes()).map(|n| speed(&m.v, n)).fold(0.0, f64::max);
         w.raise(fastest, "the fastest node at the start");
         let stream = |u: [f64; 3]| u.iter().map(|c| c * c).sum::<f64>().sqrt();
-        if let Some(u) = scenario.fluid.as_ref().and_then(|f| f.free_stream) {
+        if let Some(u) = scene.fluid.as_ref().and_then(|f| f.free_stream) {
             w.raise(stream(u), "the free stream");
         }
-        for u in scenario.fluid.iter().flat_map(|f| f.given_velocities()) {
+        for u in scene.fluid.iter().flat_map(|f| f.given_velocities()) {
             w.raise(stream(u), "the flow's fastest side or initial velocity");
         }
         if let Some(p) = &m.porous {
@@ -60,7 +60,7 @@ impl Watch {
         );
         let g = stream(m.gravity);
         w.raise(
-            g * (scenario.run.end_time - scenario.run.start_time),
+            g * (scene.scenario.run.end_time - scene.scenario.run.start_time),
             "the speed of a free fall over the run",
         );
         w

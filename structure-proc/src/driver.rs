@@ -12,11 +12,10 @@ use crate::fields::*;
 use crate::forces::Loads;
 use crate::integrators::{Integrator, StepError};
 use crate::output::Output;
-use crate::stability::{omega_max, OMEGA_MAX_FLAG, OMEGA_MAX_MONITOR};
+use crate::stability::{omega_max, OMEGA_MAX_MONITOR};
 use crate::{build_model, Model, NodeKind};
 use participant::{Advance, Cadence, Command, Declaration, FieldView, Monitor, Participant};
-use scenario::structure::StructureSection;
-use scenario::Scenario;
+use structure_section::{Scene, StructureSection};
 
 pub type Error = Box<dyn std::error::Error>;
 
@@ -67,58 +66,18 @@ impl Stepper for Scheme {
     }
 }
 
-/// Run `run` and exit: status 1 with the message on stderr if it failed.
-/// Called as `program --omega-max SCENARIO` instead, print the model's ω_max
-/// for `coupler check` and exit.
+/// The program's `main`: answers `PROGRAM --check SCENARIO` (see
+/// [`crate::answer`]), or runs and exits with status 1 and the message on
+/// stderr if the run failed.
 pub fn main<S: Stepper>(
     program: &str,
-    make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
+    make: impl Fn(&StructureSection, &Model) -> Result<S, Error>,
 ) {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    if let [flag, path] = args.as_slice() {
-        if flag == OMEGA_MAX_FLAG {
-            match omega_max_of(std::path::Path::new(path), make) {
-                Ok(w) => println!("omega_max {w:e}"),
-                Err(e) => {
-                    eprintln!("{program}: {e}");
-                    std::process::exit(2);
-                }
-            }
-            return;
-        }
-    }
-    if let Err(e) = run(make) {
+    scenario::answer_check(|path, text| crate::answer::answer(program, path, text, &make));
+    if let Err(e) = run(program, make) {
         eprintln!("{program}: {e}");
         std::process::exit(1);
     }
-}
-
-/// The ω_max bound (dissertation eq. 3.7) of the model the scenario at `path`
-/// builds, if the program's stepper is the scenario's integrator.
-fn omega_max_of<S: Stepper>(
-    path: &std::path::Path,
-    make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
-) -> Result<f64, Error> {
-    let scenario = Scenario::load(path)?;
-    let section = scenario
-        .structure
-        .as_ref()
-        .ok_or("the scenario has no [structure] section")?;
-    let m = build_model(
-        section,
-        scenario.rigid.as_ref(),
-        scenario.coupling.structure_dt(),
-    )?;
-    let stepper = make(section, &m)?;
-    if !stepper.is_scenario_integrator() {
-        return Err(format!(
-            "{} does not use `integrator = \"{}\"`, so eq. (3.7) and its interval do not apply",
-            stepper.name(),
-            section.integrator.name()
-        )
-        .into());
-    }
-    Ok(omega_max(&m.inv_mass, &m.couplings))
 }
 
 /// What the structure reports at every window end: energies, momentum, the
@@ -210,30 +169,28 @@ fn declaration(
 /// scenario's `[structure]` section, and advance it with the stepper that
 /// `make` returns, to the end of the schedule.
 pub fn run<S: Stepper>(
+    program: &str,
     make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
 ) -> Result<(), Error> {
     let joining = participant::connect()?;
-    let scenario = Scenario::from_resolved(joining.scenario())?;
-    let section = scenario
-        .structure
-        .as_ref()
-        .ok_or("the scenario has no [structure] section")?;
+    let scene = Scene::load(joining.scenario_path(), joining.scenario(), program)?;
+    let section = &scene.structure;
     let m = build_model(
         section,
-        scenario.rigid.as_ref(),
-        scenario.coupling.structure_dt(),
+        scene.rigid.as_ref(),
+        scene.scenario.coupling.structure_dt(),
     )?;
-    let obstacles = match (&section.collision, &scenario.rigid) {
+    let obstacles = match (&section.collision, &scene.rigid) {
         (Some(spec), Some(rigid)) => Some(Obstacles::new(rigid, spec)?),
         _ => None,
     };
-    let watch = Watch::new(&m, &scenario);
+    let watch = Watch::new(&m, &scene);
     let stepper = make(section, &m)?;
     let omega_max = stepper
         .is_scenario_integrator()
         .then(|| omega_max(&m.inv_mass, &m.couplings));
     let first = monitors(&m, omega_max, obstacles.as_ref());
-    let n_s = scenario.coupling.structure_substeps;
+    let n_s = scene.scenario.coupling.structure_substeps;
     let mut p = joining.declare(declaration(&m, obstacles.as_ref(), &first, n_s))?;
     let mut d = Driven {
         output: Output::new(p.run_dir(), &m),

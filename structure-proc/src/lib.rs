@@ -8,6 +8,7 @@
 //! [`System`] trait.
 
 pub mod annulus;
+pub mod answer;
 pub mod build;
 pub mod collision;
 pub mod cross;

@@ -5,7 +5,7 @@
 //! are chains of mesh edges, and each suspension line starts at a seam on the skirt.
 
 use crate::rings::{ring_mesh, MeshError, Ring};
-use scenario::parachute::CanopyGeometry;
+use structure_section::parachute::CanopyGeometry;
 
 pub struct CanopyMesh {
     pub points: Vec<f64>,

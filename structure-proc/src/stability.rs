@@ -1,9 +1,132 @@
 //! How large a step a spring-mass model allows: the highest eigenfrequency
-//! bound of dissertation eq. (3.7), computed from the model. The schemes'
-//! stability intervals and the sub-step estimate built on it are the
-//! coupler's (`scenario::stability`), re-exported here.
+//! bound of dissertation eq. (3.7), computed from the model; each scheme's
+//! stability interval on undamped oscillation, ω·h ≤ y*; and from both the
+//! sub-step count n_s a coupling window needs, which structure-proc's
+//! `--check` answer gives to `coupler check`, the run's warning and the
+//! manifest.
 
-pub use scenario::stability::*;
+use structure_section::Scheme;
+
+/// The monitor in which the structure reports its ω_max [rad/s].
+pub const OMEGA_MAX_MONITOR: &str = "omega_max";
+
+/// Dissertation §3.1.2: ω_max·h < 0.1 "for stability and accuracy", the rule
+/// behind the dissertation's choice of sub-steps.
+pub const SEED_OMEGA_H: f64 = 0.1;
+
+/// Where a scheme is stable on an undamped linear oscillation of angular
+/// frequency ω with step h.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Interval {
+    /// Stable at every step (A-stable, or claimed so by its authors).
+    Unconditional,
+    /// Stable for ω·h ≤ the value given.
+    Bounded(f64),
+    /// Unstable at every step: the amplification exceeds 1 on the whole
+    /// imaginary axis, so energy grows however small h is (thesis §2.5.2).
+    Empty,
+}
+
+/// The stability interval of `scheme` on ẍ = −ω²x, from its amplification:
+/// - explicit Euler |1 + iy|² = 1 + y², explicit midpoint (Euler–Richardson)
+///   and Heun (improved Euler) |1 + iy − y²/2|² = 1 + y⁴/4: empty;
+/// - symplectic Euler (Euler–Cromer) and velocity Verlet: y ≤ 2;
+/// - RK4: |R(iy)|² = 1 − y⁶/72 + y⁸/576 ≤ 1 for y ≤ 2√2;
+/// - Newmark (thesis eq. 27, for α = 0): unconditional for 2β ≥ γ ≥ ½,
+///   else y ≤ 1/√(γ/2 − β); HHT's parameters satisfy 2β ≥ γ;
+/// - backward Euler: A-stable; Kang's method: unconditionally stable (Kang et al. 2000);
+/// - adaptive Dormand–Prince: its step control takes internal steps as small as needed.
+pub fn interval(scheme: Scheme) -> Interval {
+    match scheme {
+        Scheme::ExplicitEuler | Scheme::EulerRichardson | Scheme::ImprovedEuler => Interval::Empty,
+        Scheme::EulerCromer | Scheme::VelocityVerlet => Interval::Bounded(2.0),
+        Scheme::Rk4 => Interval::Bounded(2.0 * std::f64::consts::SQRT_2),
+        Scheme::Newmark { beta, gamma, .. } => {
+            if gamma < 0.5 - 1e-12 {
+                Interval::Empty
+            } else if 2.0 * beta >= gamma - 1e-12 {
+                Interval::Unconditional
+            } else {
+                Interval::Bounded(1.0 / (gamma / 2.0 - beta).sqrt())
+            }
+        }
+        // Dormand–Prince shrinks its internal steps until its error estimate
+        // holds, which keeps it stable at any outer step, at a cost.
+        Scheme::Kang | Scheme::BackwardEuler { .. } | Scheme::DormandPrince { .. } => {
+            Interval::Unconditional
+        }
+    }
+}
+
+impl Interval {
+    /// A stable name for files: "unconditional", "bounded" or "empty".
+    pub fn label(&self) -> &'static str {
+        match self {
+            Interval::Unconditional => "unconditional",
+            Interval::Bounded(_) => "bounded",
+            Interval::Empty => "empty",
+        }
+    }
+}
+
+/// The sub-step estimate for one coupling window of length `window` [s].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    /// ω_max of eq. (3.7) [rad/s].
+    pub omega_max: f64,
+    /// Largest step the scheme's interval allows, y*/ω_max [s]; None when
+    /// the scheme is unconditionally stable, 0 when its interval is empty.
+    pub stable_dt: Option<f64>,
+    /// Smallest n_s with ω_max·window/n_s within the scheme's interval: 1 when
+    /// unconditional; for an empty interval, the dissertation's ω_max·h < 0.1.
+    pub n_s: u64,
+    /// Smallest n_s with ω_max·h < 0.1, the dissertation's rule for any scheme.
+    pub n_s_seed: u64,
+}
+
+/// Sub-steps of a window for `scheme` on a network with highest frequency `omega_max`.
+pub fn estimate(omega_max: f64, window: f64, scheme: Scheme) -> Estimate {
+    let steps = |y: f64| ((omega_max * window / y).ceil() as u64).max(1);
+    let n_s_seed = steps(SEED_OMEGA_H);
+    let (stable_dt, n_s) = match interval(scheme) {
+        Interval::Unconditional => (None, 1),
+        Interval::Bounded(y) => (Some(y / omega_max), steps(y)),
+        Interval::Empty => (Some(0.0), n_s_seed),
+    };
+    Estimate {
+        omega_max,
+        stable_dt,
+        n_s,
+        n_s_seed,
+    }
+}
+
+/// Why `substeps` sub-steps of a window are too few for `scheme`, if they
+/// are: the structure step lies above the scheme's stability limit, or, for a
+/// scheme with no interval, above the dissertation's ω_max·h < 0.1.
+pub fn warning(est: &Estimate, window: f64, substeps: u32, integrator: &str) -> Option<String> {
+    let dt = window / substeps as f64;
+    let y = est.omega_max * dt;
+    match est.stable_dt {
+        Some(limit) if limit > 0.0 => (dt > limit).then(|| {
+            format!(
+                "the structure step Δt_s = {dt:e} s is above {limit:.3e} s, the step {integrator} \
+                 is sure to be stable at (ω_max·Δt_s = {y:.3} with ω_max = {:.4e} rad/s, the dissertation \
+                 eq. 3.7's upper bound); structure_substeps = {} or more guarantees it",
+                est.omega_max, est.n_s
+            )
+        }),
+        Some(_) => (y > SEED_OMEGA_H).then(|| {
+            format!(
+                "{integrator} gains energy at every step on undamped oscillation, and \
+                 ω_max·Δt_s = {y:.3} (ω_max = {:.4e} rad/s, dissertation eq. 3.7) is above the dissertation's 0.1; \
+                 structure_substeps = {} or more keeps ω_max·Δt_s < 0.1",
+                est.omega_max, est.n_s_seed
+            )
+        }),
+        None => None,
+    }
+}
 
 /// Upper bound on the highest angular eigenfrequency [rad/s] of the spring
 /// network, dissertation eq. (3.7) taken node by node: ω_max² ≤ max_i 2·Σ_j k_ij/m_i
@@ -27,6 +150,22 @@ pub fn omega_max(inv_mass: &[f64], couplings: &[(usize, usize, f64)]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn newmark_linear_acceleration_has_seed_003_eq_27_limit() {
+        // Eq. (27): δt/T ≤ 1/(π√2·√(γ − 2β)) = 0.551 for β = 1/6, γ = 1/2.
+        let s = Scheme::Newmark {
+            beta: 1.0 / 6.0,
+            gamma: 0.5,
+            alpha: 0.0,
+            newton: Default::default(),
+        };
+        let Interval::Bounded(y) = interval(s) else {
+            panic!("linear acceleration is conditionally stable")
+        };
+        let dt_over_t = y / (2.0 * std::f64::consts::PI);
+        assert!((dt_over_t - 0.5513).abs() < 1e-4);
+    }
 
     #[test]
     fn the_bound_of_eq_3_7_holds_and_is_tight_on_a_uniform_chain() {

@@ -2,10 +2,10 @@
 //! backward Euler: at rest the held corners carry the cloth's whole weight
 //! (static equilibrium: Σ F = 0 over the free nodes, so the reactions balance gravity).
 
-use scenario::structure::StructureSection;
-use scenario::Scenario;
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator, NodeKind};
+use structure_section::Scene;
+use structure_section::StructureSection;
 
 /// The structure of `scenarios/cloth-hanging.toml` on n × n nodes.
 fn cloth_scene(n: u32) -> StructureSection {
@@ -13,8 +13,8 @@ fn cloth_scene(n: u32) -> StructureSection {
         env!("CARGO_MANIFEST_DIR"),
         "/../scenarios/cloth-hanging.toml"
     );
-    let s = Scenario::load(std::path::Path::new(path)).unwrap();
-    let mut section = s.structure.unwrap();
+    let s = Scene::load_file(std::path::Path::new(path), "structure-proc").unwrap();
+    let mut section = s.structure;
     let cloth = section.cloth.as_mut().unwrap();
     cloth.nodes_x = n;
     cloth.nodes_y = n;

@@ -5,9 +5,9 @@
 //! body leaves through the nearest face.
 
 use nalgebra::Vector3;
-use scenario::structure::Collision;
-use scenario::RigidSection;
 use structure_proc::collision::Obstacles;
+use structure_section::Collision;
+use structure_section::RigidSection;
 
 fn obstacles(scene: &str, thickness: f64, restitution: f64) -> Obstacles {
     let section: RigidSection = toml::from_str(scene).unwrap();

@@ -1,8 +1,8 @@
 //! The cross-shaped T-11 canopy (dissertation table 5.2; the geometry is our
 //! assumption, see the README): a flat cross of five squares of side D₀/3.
 
-use scenario::parachute::ParachuteModel;
 use structure_proc::cross::cross_canopy;
+use structure_section::parachute::ParachuteModel;
 
 #[test]
 fn t11_cross_is_a_valid_flat_cross_with_its_lines_on_the_arm_ends() {

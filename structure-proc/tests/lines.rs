@@ -2,17 +2,16 @@
 //! `scenarios/c9-drop.toml`: 10 of 28 lines 0.3 m shorter than 7 m, and lines
 //! that break at a time or above a tension.
 
-use scenario::structure::{LineBreak, LineChange};
-use scenario::Scenario;
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator, Model};
+use structure_section::Scene;
+use structure_section::{LineBreak, LineChange};
 
-fn c9() -> scenario::StructureSection {
+fn c9() -> structure_section::StructureSection {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/c9-drop.toml");
-    Scenario::load(std::path::Path::new(path))
+    Scene::load_file(std::path::Path::new(path), "structure-proc")
         .unwrap()
         .structure
-        .unwrap()
 }
 
 fn line_rest(m: &Model, line: usize) -> f64 {
@@ -50,7 +49,7 @@ fn ten_of_28_lines_are_0_3_m_shorter() {
 }
 
 /// Step the C-9 (structure only: gravity, no air) until `t_end`.
-fn fall(s: &scenario::StructureSection, t_end: f64) -> Model {
+fn fall(s: &structure_section::StructureSection, t_end: f64) -> Model {
     let dt = 1e-4;
     let mut m = build_model(s, None, dt).unwrap();
     let mut stepper = integrator(s.scheme());

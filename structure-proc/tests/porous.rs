@@ -1,9 +1,9 @@
 //! The Darcy–Forchheimer load applied by the structure itself
 //! (`[structure.porous]`, thesis eqs. 6–10), no fluid process involved.
 
-use scenario::Scenario;
 use structure_proc::forces::{Dynamics, Loads};
 use structure_proc::{build_model, integrator, Model, System};
+use structure_section::Scene as Scenario;
 
 /// A free, flat, horizontal 1 m × 1 m cloth of 9 × 9 nodes (σ = 0.05 kg/m²,
 /// uniform springs) in the porous free stream `stream`, integrated by `scheme`.
@@ -34,8 +34,13 @@ areal_density = 0.05
 stiffness = 10.0
 "#
     );
-    let s = Scenario::parse(std::path::Path::new("porous-cloth.toml"), &text).unwrap();
-    let m = build_model(s.structure.as_ref().unwrap(), None, 1e-3).unwrap();
+    let s = Scenario::load(
+        std::path::Path::new("porous-cloth.toml"),
+        &text,
+        "structure-proc",
+    )
+    .unwrap();
+    let m = build_model(&s.structure, None, 1e-3).unwrap();
     (s, m)
 }
 
@@ -51,15 +56,7 @@ fn a_flat_sheet_falls_at_the_ergun_terminal_speed() {
         ("backward-euler", 5e-3, 120),
     ] {
         let (s, mut m) = free_cloth(scheme, [0.0; 3]);
-        let law = porous::Porous::new(
-            &s.structure
-                .as_ref()
-                .unwrap()
-                .porous
-                .as_ref()
-                .unwrap()
-                .params(),
-        );
+        let law = porous::Porous::new(&s.structure.porous.as_ref().unwrap().params());
         let g = -m.gravity[2];
         let sigma = 0.05;
         let (lin, quad) = (
@@ -68,7 +65,7 @@ fn a_flat_sheet_falls_at_the_ergun_terminal_speed() {
         );
         let terminal = (-lin + (lin * lin + 4.0 * quad * sigma * g).sqrt()) / (2.0 * quad);
         m.dt = dt;
-        let mut stepper = integrator(s.structure.as_ref().unwrap().scheme());
+        let mut stepper = integrator(s.structure.scheme());
         for _ in 0..steps {
             m.step(stepper.as_mut(), &Loads::default()).unwrap();
         }

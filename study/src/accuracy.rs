@@ -5,8 +5,8 @@
 
 use crate::cpu;
 use crate::reference::Reference;
-use scenario::structure::{Integrator, Scheme};
 use structure_proc::integrators::theoretical_order;
+use structure_section::{Integrator, Scheme};
 
 /// A run whose relative error grows past this has left the solution for good.
 pub const DIVERGED_ERROR: f64 = 1e3;

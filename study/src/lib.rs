@@ -12,7 +12,7 @@ pub mod report;
 pub mod scene;
 pub mod stability;
 
-use scenario::structure::Integrator;
+use structure_section::Integrator;
 
 /// The distinct integrators of `items`, in the order they first appear.
 pub fn integrators_in(items: impl IntoIterator<Item = Integrator>) -> Vec<Integrator> {

@@ -2,8 +2,8 @@
 //! CPU time. A thin command line over the `study` library.
 
 use clap::{Args, Parser, Subcommand};
-use scenario::structure::Integrator;
 use std::path::{Path, PathBuf};
+use structure_section::Integrator;
 use study::{accuracy, plot, reference, report, scene, stability};
 
 /// Exit code for bad input, as the coupler's.
@@ -250,8 +250,8 @@ fn scenario_study(a: &AccuracyArgs, path: &Path, integrators: &[Integrator], lev
         }
     };
     let steps: Vec<f64> = substeps.iter().map(|&n| study.step(n)).collect();
-    let damping = study.scenario.structure.as_ref().map(|s| s.damping);
-    let caveat = if damping == Some(scenario::structure::Damping::RelativeVelocity) {
+    let damping = Some(study.structure.damping);
+    let caveat = if damping == Some(structure_section::Damping::RelativeVelocity) {
         "- **Caveat:** the scenario's damping = \"relative-velocity\" is thesis eq. (68), c = k·Δt_s: the model itself changes with the step, so every scheme's error includes that change and converges at first order at best.\n"
     } else {
         ""

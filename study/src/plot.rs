@@ -4,9 +4,9 @@
 use crate::accuracy::{Run, Status};
 use crate::stability::{predicted_omega_h, Cell, Chain, Limit, Outcome};
 use plotters::prelude::*;
-use scenario::structure::Integrator;
 use std::path::Path;
 use std::sync::Once;
+use structure_section::Integrator;
 
 /// Dark, distinct line colours (Okabe–Ito and Tableau), one per integrator.
 const COLOURS: [RGBColor; 13] = [

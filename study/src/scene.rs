@@ -7,10 +7,11 @@
 //! process's, from the run's manifest.
 
 use crate::accuracy::{adaptive_tolerance, Run, Status};
-use scenario::structure::Integrator;
 use scenario::Scenario;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use structure_section::{Integrator, Scene, StructureSection};
+use toml_edit::{value, DocumentMut};
 
 /// The reference runs this many halvings below the smallest step of the ladder.
 pub const REFERENCE_HALVINGS: u32 = 3;
@@ -20,7 +21,11 @@ pub const REFERENCE: Integrator = Integrator::Rk4;
 /// A scenario under study.
 pub struct ScenarioStudy {
     pub path: PathBuf,
+    /// The file's text, each variant an edit of it (every table the study
+    /// does not vary stays as written).
+    pub text: String,
     pub scenario: Scenario,
+    pub structure: StructureSection,
     /// The `coupler` executable that runs it.
     pub coupler: PathBuf,
     /// Where the variants and their runs go.
@@ -39,10 +44,20 @@ struct Outcome {
 impl ScenarioStudy {
     /// Load `path`; fails with a message when it cannot be studied.
     pub fn new(path: &Path, dir: &Path, end_time: Option<f64>) -> Result<ScenarioStudy, String> {
-        let mut scenario = Scenario::load(path).map_err(|e| e.to_string())?;
-        if scenario.structure.is_none() {
+        let text = scenario::read_text(path).map_err(|e| e.to_string())?;
+        let mut scenario = Scenario::parse(path, &text).map_err(|e| e.to_string())?;
+        if !scenario.participants.lists("structure") {
             return Err(format!("{}: has no [structure] to study", path.display()));
         }
+        let program = scenario
+            .participants
+            .get("structure")
+            .map(|p| p.program.clone());
+        let scene = Scene::load(path, &text, program.as_deref().unwrap_or("structure"))
+            .map_err(|e| e.to_string())?;
+        let mut doc: DocumentMut = text
+            .parse()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         if let Some(t) = end_time {
             if !(t > scenario.run.start_time) {
                 return Err(format!(
@@ -51,8 +66,10 @@ impl ScenarioStudy {
                 ));
             }
             scenario.run.end_time = t;
+            doc["run"]["end_time"] = value(t);
         }
         scenario.run.output_interval = 0.0;
+        doc["run"]["output_interval"] = value(0.0);
         let exe = std::env::current_exe().map_err(|e| e.to_string())?;
         let coupler = exe.with_file_name("coupler");
         if !coupler.is_file() {
@@ -63,7 +80,9 @@ impl ScenarioStudy {
         }
         Ok(ScenarioStudy {
             path: path.to_path_buf(),
+            text: doc.to_string(),
             scenario,
+            structure: scene.structure,
             coupler,
             dir: dir.to_path_buf(),
         })
@@ -87,20 +106,19 @@ impl ScenarioStudy {
         substeps: u32,
         tolerance: Option<f64>,
     ) -> Result<Outcome, String> {
-        let mut s = self.scenario.clone();
-        let st = s.structure.as_mut().expect("checked in new");
-        st.integrator = integrator;
+        let mut s: DocumentMut = self.text.parse().map_err(|e| format!("{e}"))?;
+        s["structure"]["integrator"] = value(integrator.name());
         let mut name = format!("{}-n{substeps}", integrator.name());
         if let Some(t) = tolerance {
-            st.adaptive.tolerance = t;
+            s["structure"]["adaptive"]["tolerance"] = value(t);
             name = format!("{}-tol{t:.0e}", integrator.name());
         }
-        s.coupling.structure_substeps = substeps;
+        s["coupling"]["structure_substeps"] = value(i64::from(substeps));
         let toml = self.dir.join("runs").join(format!("{name}.toml"));
         let out = self.dir.join("runs").join(&name);
         let _ = std::fs::remove_dir_all(&out);
         std::fs::create_dir_all(self.dir.join("runs")).map_err(|e| e.to_string())?;
-        std::fs::write(&toml, s.to_toml()).map_err(|e| e.to_string())?;
+        std::fs::write(&toml, s.to_string()).map_err(|e| e.to_string())?;
         let o = Command::new(&self.coupler)
             .arg("run")
             .arg(&toml)

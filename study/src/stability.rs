@@ -5,9 +5,9 @@
 
 use crate::accuracy::scheme;
 use crate::reference::{mechanical_energy, Owned};
-use scenario::structure::Integrator;
 use structure_proc::stability::{self, Interval};
 use structure_proc::{Model, NodeKind, Spring, System};
+use structure_section::Integrator;
 
 /// The rule: a run is unstable when a value turns non-finite, or when its
 /// energy after [`STEPS`] steps exceeds this factor times its initial energy.

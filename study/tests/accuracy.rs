@@ -3,7 +3,7 @@
 //! oscillator of thesis appendix A (eqs. 77–81) and the undamped simple
 //! pendulum (thesis eqs. 58–61, exact through Jacobi's elliptic functions).
 
-use scenario::structure::Integrator;
+use structure_section::Integrator;
 use study::accuracy::{ladder, summarise, sweep, Status};
 use study::reference::{by_name, Reference};
 

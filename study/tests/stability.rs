@@ -1,8 +1,8 @@
 //! The stability sweep against theory on a linear spring chain: the bound
 //! ω_max of dissertation eq. (3.7) times each scheme's stability interval.
 
-use scenario::structure::Integrator;
 use structure_proc::stability::{interval, Interval};
+use structure_section::Integrator;
 use study::accuracy::scheme;
 use study::stability::{self, log_grid, Chain, Outcome};
 

@@ -4,8 +4,8 @@
 
 use canopy_tests::*;
 use participant::vtu;
-use scenario::parachute::{Parachute, ParachuteModel};
 use structure_proc::build_model;
+use structure_section::parachute::{Parachute, ParachuteModel};
 
 #[test]
 fn c9_falls_with_its_payload_and_keeps_its_mesh_valid() {
@@ -31,7 +31,7 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
         change(s.structure.as_mut().unwrap().parachute.as_mut().unwrap());
     });
     run_ok(&path, &dir.join("run"));
-    let s = scenario::Scenario::load(&path).unwrap();
+    let s = canopy_tests::Scenario::load(&path).unwrap();
     let model = build_model(s.structure.as_ref().unwrap(), None, 1e-4).unwrap();
     assert_eq!(
         model.lines.len(),
@@ -124,10 +124,10 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
 /// up to the one-sub-step lag of the impulse exchange.
 #[test]
 fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
-    use scenario::rigid::{BodySpec, RigidSection};
-    use scenario::ParticipantSpec;
+    use canopy_tests::ParticipantSpec;
+    use rigid_section::{BodySpec, RigidSection};
     let dir = scratch("c9-body");
-    let shorten = |s: &mut scenario::Scenario| {
+    let shorten = |s: &mut canopy_tests::Scenario| {
         s.run.end_time = 0.5;
         s.run.output_interval = 0.0;
     };
@@ -138,11 +138,8 @@ fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
     let on_body = variant("c9-drop", &dir.join("body"), |s| {
         shorten(s);
         s.coupling.impulse_substeps = s.coupling.structure_substeps;
-        s.participants.rigid = Some(ParticipantSpec {
-            program: "rigid-proc".into(),
-            args: Vec::new(),
-            ranks: None,
-        });
+        s.participants
+            .insert("rigid", ParticipantSpec::program("rigid-proc"));
         let gravity = s.structure.as_ref().unwrap().gravity;
         // The body starts where the generator puts the mass point.
         let section = s.structure.as_ref().unwrap();

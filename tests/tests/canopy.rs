@@ -43,7 +43,7 @@ fn transport_changes_no_number() {
         s.run.output_interval = 0.0;
     });
     run_ok(&path, &dir.join("run"));
-    let s = scenario::Scenario::load(&path).unwrap();
+    let s = canopy_tests::Scenario::load(&path).unwrap();
 
     // The same model stepped in this process, with no IPC, in the schedule's order:
     // per window the fluid load from the last published state, then n_s structure steps.
@@ -65,8 +65,8 @@ fn transport_changes_no_number() {
     );
     let n = model.canopy_nodes;
     let mut pressure = vec![0.0; model.triangles.len()];
-    for w in 0..s.windows() {
-        let (_, dt) = s.window_span(w);
+    for w in 0..s.base().windows() {
+        let (_, dt) = s.base().window_span(w);
         porous.pressure(
             &model.triangles,
             &model.x[..3 * n],
@@ -96,7 +96,7 @@ fn transport_changes_no_number() {
 /// and only the springs, gravity and the Ergun load remain.
 #[test]
 fn every_integrator_reaches_the_same_equilibrium() {
-    use scenario::structure::Integrator;
+    use structure_section::Integrator;
     let mut finals = Vec::new();
     for integrator in Integrator::ALL {
         let dir = scratch(&format!("integrator-{}", integrator.name()));

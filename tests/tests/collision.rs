@@ -6,7 +6,7 @@
 
 use canopy_tests::*;
 use participant::vtu;
-use scenario::structure::STANDARD_GRAVITY;
+use structure_section::STANDARD_GRAVITY;
 
 fn last(m: &Monitors, name: &str) -> f64 {
     *m.column(name).last().unwrap()
@@ -59,7 +59,7 @@ fn a_dropped_cloth_stays_out_of_the_cuboid_and_rests_on_it_with_its_weight() {
     let out = dir.join("run");
     run_ok(&scenario, &out);
     let m = Monitors::read(&out);
-    let s = scenario::Scenario::load(&scenario).unwrap();
+    let s = canopy_tests::Scenario::load(&scenario).unwrap();
     let st = s.structure.as_ref().unwrap();
     let cloth = st.cloth.as_ref().unwrap();
     let layer = st.collision.unwrap().thickness;

@@ -5,7 +5,7 @@
 //! with a large step the run must stop with a diagnostic, not go on.
 
 use canopy_tests::*;
-use scenario::structure::Integrator;
+use structure_section::Integrator;
 
 /// ω_max of eq. (3.7) for the spring pendulum [rad/s].
 const OMEGA_MAX: f64 = 20.0;
@@ -77,8 +77,12 @@ fn a_diverging_run_stops_within_a_window_and_names_time_node_and_quantity() {
         .contains("diverged at t ="));
     // The stability estimate the run used: explicit Euler has no interval,
     // so n_s is the dissertation's ω_max·Δt_s < 0.1: ⌈20·0.02/0.1⌉ = 4.
-    let st = &manifest["stability"];
+    // The structure program's --check answer, as the manifest records it.
+    let st = &manifest["checked"]["structure"]["stability"];
     assert!((st["omega_max"].as_f64().unwrap() - OMEGA_MAX).abs() < 1e-12);
     assert_eq!(st["n_s"].as_u64(), Some(4));
-    assert_eq!(manifest["schedule"]["integrator"], "explicit-euler");
+    assert_eq!(
+        manifest["checked"]["structure"]["integrator"],
+        "explicit-euler"
+    );
 }

@@ -20,7 +20,7 @@ fn substeps(manifest: &serde_json::Value, role: &str) -> u64 {
 fn run_variant(
     scene: &str,
     dir: &std::path::Path,
-    change: impl FnOnce(&mut scenario::Scenario),
+    change: impl FnOnce(&mut canopy_tests::Scenario),
 ) -> (serde_json::Value, u64) {
     let path = variant(scene, dir, change);
     let out = dir.join(scene);
@@ -219,9 +219,9 @@ fn ctrl_c_stops_everything_cleanly() {
 
 #[test]
 fn three_participants_exchange_every_field_each_sub_step() {
-    use scenario::rigid::{BodySpec, RigidSection};
-    use scenario::structure::StringSpec;
-    use scenario::ParticipantSpec;
+    use canopy_tests::ParticipantSpec;
+    use rigid_section::{BodySpec, RigidSection};
+    use structure_section::StringSpec;
     // The porous canopy plus a payload hanging from a string: fluid, structure and
     // rigid all take part, with two impulse sub-steps per window.
     let dir = scratch("three");
@@ -229,11 +229,8 @@ fn three_participants_exchange_every_field_each_sub_step() {
         s.run.end_time = 0.1;
         s.coupling.structure_substeps = 4;
         s.coupling.impulse_substeps = 2;
-        s.participants.rigid = Some(ParticipantSpec {
-            program: "rigid-proc".into(),
-            args: vec![],
-            ranks: None,
-        });
+        s.participants
+            .insert("rigid", ParticipantSpec::program("rigid-proc"));
         s.structure.as_mut().unwrap().strings.push(StringSpec {
             anchor: [0.0, 0.0, -1.0],
             body: "payload".into(),

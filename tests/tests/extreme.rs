@@ -8,8 +8,8 @@
 //! can only fall: E(t) ≤ E(0).
 
 use canopy_tests::*;
-use scenario::structure::Integrator;
 use std::path::Path;
+use structure_section::Integrator;
 
 /// Run `scenario` into `out`; the exit code and stderr.
 fn run(scenario: &Path, out: &Path) -> (Option<i32>, String) {
@@ -92,9 +92,10 @@ fn stiff_annulus_reaches_equilibrium_with_backward_euler() {
         "the stream pushes the canopy downstream"
     );
     let man = manifest(&out);
-    assert_eq!(man["stability"]["interval"], "unconditional");
+    let stability = &man["checked"]["structure"]["stability"];
+    assert_eq!(stability["interval"], "unconditional");
     // Eq. (3.7) puts RK4's limit 100 times below the step used.
-    let omega = man["stability"]["omega_max"].as_f64().unwrap();
+    let omega = stability["omega_max"].as_f64().unwrap();
     assert!(2.0 * 2f64.sqrt() / omega < 1e-5);
 
     let verlet = variant("canopy-stiff", &dir, |s| {

@@ -139,13 +139,13 @@ fn a_program_that_never_connects_fails_the_run_after_coupling_timeout() {
     // loaded machine), not a fixed one.
     let dir = scratch("never-connects");
     let mute = dir.join("mute.sh");
-    std::fs::write(&mute, "#!/bin/sh\nexec sleep 60\n").unwrap();
+    std::fs::write(&mute, "#!/bin/sh\n# Answers the check, then never connects.\n[ \"$1\" = --check ] && exit 0\nexec sleep 60\n").unwrap();
     let mut perms = std::fs::metadata(&mute).unwrap().permissions();
     std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o755);
     std::fs::set_permissions(&mute, perms).unwrap();
     let path = variant("pendulum", &dir, |s| {
         s.coupling.timeout = 7.0;
-        s.participants.rigid.as_mut().unwrap().program = mute.display().to_string();
+        s.participants.get_mut("rigid").unwrap().program = mute.display().to_string();
     });
     let started = std::time::Instant::now();
     let failed = run_failed(&path, &dir.join("run"));

@@ -5,7 +5,7 @@
 //! by symmetry it would have stayed on the axis.
 
 use canopy_tests::*;
-use scenario::parachute::LineBreak;
+use structure_section::parachute::LineBreak;
 
 #[test]
 fn half_the_lines_break_on_time_and_the_payload_swings_away() {

@@ -22,9 +22,9 @@
 //!   round-off as well.
 
 use canopy_tests::*;
+use fluid_section::flow::SideSpec;
+use fluid_section::gas::GasRegion;
 use participant::vtu;
-use scenario::flow::SideSpec;
-use scenario::gas::GasRegion;
 use std::path::{Path, PathBuf};
 
 /// The scene run on `ranks` ranks of the MPI fluid-proc; its run directory.
@@ -33,11 +33,11 @@ fn run_on(
     dir: &Path,
     ranks: u32,
     fluid: &Path,
-    change: fn(&mut scenario::Scenario),
+    change: fn(&mut canopy_tests::Scenario),
 ) -> PathBuf {
     let scenario = variant(name, dir, |s| {
         change(s);
-        let spec = s.participants.fluid.as_mut().unwrap();
+        let spec = s.participants.get_mut("fluid").unwrap();
         spec.program = fluid.display().to_string();
         spec.ranks = Some(ranks);
     });
@@ -95,7 +95,7 @@ fn assert_same_on(
     test: &str,
     name: &str,
     ranks: &[u32],
-    change: fn(&mut scenario::Scenario),
+    change: fn(&mut canopy_tests::Scenario),
     (fields, monitors, tolerance): (&[&str], &[&str], f64),
 ) {
     let Some(fluid) = mpi_fluid_proc() else {
@@ -123,7 +123,7 @@ fn a_periodic_2d_gas_gives_the_same_fields_on_1_2_and_3_ranks() {
     // stream: its waves cross the rank boundaries and the periodic sides
     // (which the slabs wrap round) several times by t = 0.6. On 2 ranks
     // each rank's neighbours below and above are the same rank.
-    let change = |s: &mut scenario::Scenario| {
+    let change = |s: &mut canopy_tests::Scenario| {
         s.run.end_time = 0.6;
         s.run.output_interval = 0.3;
         let f = s.fluid.as_mut().unwrap();
@@ -164,7 +164,7 @@ const FLOW: (&[&str], &[&str], f64) = (&["velocity", "pressure"], &["fluid.kinet
 fn the_cavity_gives_the_same_flow_on_1_2_and_4_ranks() {
     // The Re = 100 cavity (2-D, split along y): walls on the ranks at the
     // bottom and the sides, the lid on the top rank's side.
-    let change = |s: &mut scenario::Scenario| {
+    let change = |s: &mut canopy_tests::Scenario| {
         s.run.end_time = 0.25;
         s.run.output_interval = 0.125;
         s.coupling.window = 1.25e-2;
@@ -179,7 +179,7 @@ fn a_3d_channel_gives_the_same_flow_on_1_2_and_4_ranks() {
     // (its profile across x, between walls; y periodic) on the first rank's
     // side, an outflow at p = 0 on the last's, so the jet front and the
     // pressure cross every slab boundary.
-    let change = |s: &mut scenario::Scenario| {
+    let change = |s: &mut canopy_tests::Scenario| {
         s.run.end_time = 0.3;
         s.run.output_interval = 0.15;
         s.coupling.window = 0.03;
@@ -210,7 +210,7 @@ fn a_porous_sheet_in_the_flow_moves_the_same_on_1_2_and_4_ranks() {
     // structure's energy to 6·10⁻¹⁴. (Before the markers' cut took a
     // slack, round-off in the cloth's edges of exactly one cell cut them
     // differently on 2 ranks: 10⁻³ off.)
-    let change = |s: &mut scenario::Scenario| {
+    let change = |s: &mut canopy_tests::Scenario| {
         s.run.end_time = 0.3;
         s.run.output_interval = 0.1;
         let cloth = s.structure.as_mut().unwrap().cloth.as_mut().unwrap();
@@ -233,7 +233,7 @@ fn a_parachutist_in_the_flow_leaves_the_same_wake_on_1_2_and_4_ranks() {
     // at cell 64 (z = 0) on 2 and 4 ranks. The fluid's load on it
     // (the forcing rank 0 records, and eq. 2.40's pressure integral over
     // the gathered pressure): measured, to 5·10⁻¹⁴.
-    let change = |s: &mut scenario::Scenario| {
+    let change = |s: &mut canopy_tests::Scenario| {
         s.run.end_time = 0.15;
         s.run.output_interval = 0.075;
         s.rigid.as_mut().unwrap().bodies[0].position = [0.0, 0.0, -0.5];

@@ -122,7 +122,7 @@ fn c9_drop_descends_alike_with_a_mass_point_or_a_rigid_parachutist() {
     // within 2 % (the body adds rotational inertia and an off-centre pull;
     // the porous model exerts no flow force on it).
     let dir = scratch("c9-bodies");
-    let shorten = |s: &mut scenario::Scenario| s.run.end_time = 1.0;
+    let shorten = |s: &mut canopy_tests::Scenario| s.run.end_time = 1.0;
     let point = variant("c9-drop", &dir, shorten);
     let body = variant("c9-drop-body", &dir, shorten);
     run_ok(&point, &dir.join("point-run"));

@@ -5,6 +5,11 @@
 //! balance of springs, gravity and the Ergun load (thesis §3.2); XPBD gets
 //! there by position projections (Macklin et al. 2016) instead of forces.
 //!
+//! A stranger's solver can be swapped in as well (issue 21, item 4): the
+//! participant library's example `spring_canopy`, written from
+//! docs/PROTOCOL.md alone with a key of its own, settles at the same
+//! deflection, for it builds the same annulus, springs and lumped masses.
+//!
 //! The porous load can move too (issue 3, item 1): the same scene with
 //! fluid-proc's `[fluid]` keys given to `[structure.porous]` instead, and no
 //! fluid process, settles at the same deflection, for one law serves both.
@@ -40,11 +45,57 @@ fn xpbd_proc_reaches_structure_procs_equilibrium() {
     );
 }
 
+/// canopy-porous with the example solver in place of structure-proc: the
+/// program line and the example's own key `steps_per_substep` changed.
+fn with_example(dir: &std::path::Path, steps_per_substep: &str) -> std::path::PathBuf {
+    let example = example_exe("participant", "spring_canopy");
+    let text = std::fs::read_to_string(scenario_path("canopy-porous")).unwrap();
+    let line = "program = \"structure-proc\"";
+    let key = "[structure]\n";
+    assert_eq!(
+        (text.matches(line).count(), text.matches(key).count()),
+        (1, 1)
+    );
+    let program = format!("program = {:?}", example.display().to_string());
+    let own_key = format!("{key}steps_per_substep = {steps_per_substep}\n");
+    let path = dir.join(format!("canopy-porous-{steps_per_substep}.toml"));
+    std::fs::write(&path, text.replace(line, &program).replace(key, &own_key)).unwrap();
+    path
+}
+
+#[test]
+fn the_example_participant_reaches_structure_procs_equilibrium() {
+    let dir = scratch("swap-example");
+    let (reference, _) = final_deflection(&scenario_path("canopy-porous"), &dir.join("reference"));
+    let (d, ke) = final_deflection(&with_example(&dir, "1"), &dir.join("example"));
+    assert!(ke < 1e-6, "the example still moves: {ke} J");
+    // Issue 21, item 4: within 0.5 % of structure-proc's centre deflection.
+    assert!(
+        (d / reference - 1.0).abs() < 5e-3,
+        "example {d} m, structure-proc {reference} m"
+    );
+    // Its own key is checked like canopy's: file, line, key, exit 2.
+    let bad = with_example(&dir, "0");
+    let o = coupler(&["check", bad.to_str().unwrap()]);
+    let says = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{says}");
+    let line = 1 + std::fs::read_to_string(&bad)
+        .unwrap()
+        .lines()
+        .position(|l| l.starts_with("steps_per_substep"))
+        .unwrap();
+    let at = format!("{}:{line}:", bad.display());
+    assert!(
+        says.contains(&at) && says.contains("key `structure.steps_per_substep`"),
+        "{says}"
+    );
+}
+
 #[test]
 fn the_porous_load_applied_by_the_structure_matches_fluid_procs() {
     let dir = scratch("porous-in-structure");
     let alone = variant("canopy-porous", &dir, |s| {
-        s.participants.fluid = None;
+        s.participants.remove("fluid");
         let fluid = s.fluid.take().expect("canopy-porous has a [fluid] section");
         s.structure.as_mut().unwrap().porous = Some(fluid.porous_load().expect("porous keys"));
     });

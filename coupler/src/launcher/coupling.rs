@@ -8,8 +8,7 @@
 use super::monitors::{Monitors, MonitorsError};
 use super::progress::Progress;
 use participant::supervisor::{Report, Setup, Stats, SuperviseError, Supervisor};
-use participant::{Declaration, Timing};
-use scenario::stability::{self, Estimate};
+use participant::Timing;
 use scenario::Scenario;
 use std::path::Path;
 use std::sync::Mutex;
@@ -62,7 +61,6 @@ impl CouplingError {
 pub struct Shared<'a> {
     /// The participants that have sent their statistics: their exits are expected.
     pub finished: &'a Mutex<Vec<String>>,
-    pub estimate: &'a Mutex<Option<Estimate>>,
 }
 
 /// Connect, set up, start and supervise every participant to the end time.
@@ -79,13 +77,10 @@ pub fn run(
     sup.join(setup, CONNECT_FLOOR.max(timeout), timeout)?;
     let names = sup.names().to_vec();
     let monitors = Monitors::create(monitors_path, &names, sup.declarations(), &timing)?;
-    let omega_max = omega_max_column(&names, sup.declarations());
     sup.start(timeout)?;
     let started = Instant::now();
     let mut watch = Watch {
         names: &names,
-        scenario,
-        omega_max,
         shared: &shared,
         monitors,
         stats: vec![None; names.len()],
@@ -119,8 +114,6 @@ const STOP_GRACE: Duration = Duration::from_millis(300);
 /// The running part: reports in, rows out, until every participant finished.
 struct Watch<'a> {
     names: &'a [String],
-    scenario: &'a Scenario,
-    omega_max: Option<(usize, usize)>,
     shared: &'a Shared<'a>,
     monitors: Monitors,
     stats: Vec<Option<Stats>>,
@@ -166,13 +159,6 @@ impl Watch<'_> {
                 width,
                 values,
             } => {
-                if first_row == 0 && Some(p) == self.omega_max.map(|(p, _)| p) {
-                    let c = self.omega_max.map_or(0, |(_, c)| c);
-                    let w = values.get(c).copied();
-                    if let Ok(mut e) = self.shared.estimate.lock() {
-                        *e = w.and_then(|w| structure_estimate(self.scenario, w));
-                    }
-                }
                 self.monitors
                     .add(p, &self.names[p], first_row, rows, width, values)?;
                 if self.monitors.complete_rows() > 0 {
@@ -228,32 +214,4 @@ fn silent(timing: &Timing, monitors: &Monitors, quiet: Duration) -> CouplingErro
             timing.timeout
         ),
     }
-}
-
-/// The structure's ω_max monitor, which it reports at the start: its
-/// participant and column.
-fn omega_max_column(names: &[String], decls: &[Declaration]) -> Option<(usize, usize)> {
-    let p = names.iter().position(|n| n == "structure")?;
-    let c = decls[p]
-        .monitor_names()
-        .iter()
-        .position(|m| m == stability::OMEGA_MAX_MONITOR)?;
-    Some((p, c))
-}
-
-/// The sub-step estimate from the ω_max the structure reported, if it did;
-/// a warning on stderr when the scenario's sub-steps are too few.
-fn structure_estimate(scenario: &Scenario, omega_max: f64) -> Option<Estimate> {
-    let section = scenario.structure.as_ref()?;
-    let c = &scenario.coupling;
-    let est = stability::estimate(omega_max, c.window, section.scheme());
-    if let Some(w) = stability::warning(
-        &est,
-        c.window,
-        c.structure_substeps,
-        section.integrator.name(),
-    ) {
-        eprintln!("warning: {w}");
-    }
-    Some(est)
 }

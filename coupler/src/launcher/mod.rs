@@ -3,8 +3,8 @@
 //! directory. Only the `coupler` binary uses this (feature `launcher`).
 
 pub mod bench;
+pub mod checks;
 pub mod coupling;
-pub mod estimate;
 pub mod monitors;
 pub mod programs;
 pub mod progress;
@@ -14,7 +14,7 @@ pub mod supervise;
 
 use participant::Timing;
 use programs::Program;
-use scenario::{Scenario, ScenarioError};
+use scenario::{Answer, Scenario, ScenarioError};
 use std::path::{Path, PathBuf};
 
 /// Exit code for bad input (scenario, arguments, missing program).
@@ -24,20 +24,33 @@ pub const EXIT_RUN_FAILED: i32 = 1;
 /// Exit code after Ctrl-C.
 pub const EXIT_INTERRUPTED: i32 = 130;
 
-/// A scenario with the program that plays each participant.
+/// A scenario with the program that plays each participant, and each
+/// program's answer to `--check`.
 pub struct Checked {
     pub path: PathBuf,
+    /// The file as read: what every participant reads its section from.
+    pub text: String,
     pub scenario: Scenario,
     /// Each participant's name and program, in the scenario's order.
     pub programs: Vec<(String, Program)>,
     /// `mpirun`, when a participant runs on several ranks.
     pub mpirun: Option<PathBuf>,
+    /// Each participant's answer to `--check`, in the order of `programs`.
+    pub answers: Vec<(String, Answer)>,
 }
 
-/// Load the scenario and find its programs; every problem is one message with file, line and key.
-pub fn load_checked(path: &Path) -> Result<Checked, ScenarioError> {
-    let scenario = Scenario::load(path)?;
+/// Load the scenario, find its programs and have each check its section:
+/// every problem, one line each (file, line, key and message).
+pub fn load_checked(path: &Path) -> Result<Checked, Vec<String>> {
+    let mut checked = load_coupling(path).map_err(|e| vec![e.to_string()])?;
+    checked.answers = checks::ask_all(&mut checked.programs, path)?;
+    Ok(checked)
+}
+
+/// The coupling part of the scenario, and its programs found.
+fn load_coupling(path: &Path) -> Result<Checked, ScenarioError> {
     let text = scenario::read_text(path)?;
+    let scenario = Scenario::parse(path, &text)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut programs = Vec::new();
     for role in scenario.participants.names() {
@@ -88,20 +101,38 @@ pub fn load_checked(path: &Path) -> Result<Checked, ScenarioError> {
     }
     Ok(Checked {
         path: path.to_path_buf(),
+        text,
         scenario,
         programs,
         mpirun,
+        answers: Vec::new(),
     })
 }
 
-/// `coupler check`: validate without running, then estimate the stable structure step.
-pub fn check(path: &Path) -> i32 {
-    let mut checked = match load_checked(path) {
-        Ok(c) => c,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return EXIT_BAD_INPUT;
+/// Prints every problem `load_checked` found; the exit code for them.
+pub fn refuse(problems: &[String]) -> i32 {
+    for p in problems {
+        eprintln!("error: {p}");
+    }
+    EXIT_BAD_INPUT
+}
+
+/// Prints the warnings of the participants' answers.
+pub fn warn(checked: &Checked) {
+    for (_, answer) in &checked.answers {
+        for w in &answer.warnings {
+            eprintln!("warning: {}: {w}", checked.path.display());
         }
+    }
+}
+
+/// `coupler check`: the coupling part and every participant's section
+/// checked, the schedule, and what each participant answered (for a
+/// structure, the stable step).
+pub fn check(path: &Path) -> i32 {
+    let checked = match load_checked(path) {
+        Ok(c) => c,
+        Err(problems) => return refuse(&problems),
     };
     let s = &checked.scenario;
     let c = &s.coupling;
@@ -131,7 +162,12 @@ pub fn check(path: &Path) -> i32 {
             }
         }
     }
-    estimate::report(&mut checked);
+    for (role, answer) in &checked.answers {
+        for note in &answer.notes {
+            println!("  {role:<9} {note}");
+        }
+    }
+    warn(&checked);
     0
 }
 

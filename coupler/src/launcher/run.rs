@@ -7,7 +7,6 @@ use super::progress::Progress;
 use super::supervise::{self, Child, Exit};
 use super::{EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_RUN_FAILED};
 use participant::supervisor::{self as names, Setup, SuperviseError, Supervisor};
-use scenario::stability::{self, Estimate};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -28,11 +27,9 @@ enum End {
 pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
     let mut checked = match super::load_checked(scenario_path) {
         Ok(c) => c,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return EXIT_BAD_INPUT;
-        }
+        Err(problems) => return super::refuse(&problems),
     };
+    super::warn(&checked);
     for (_, program) in &mut checked.programs {
         if let Err(e) = programs::ensure_built(program) {
             eprintln!("error: {}: {e}", scenario_path.display());
@@ -45,7 +42,7 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
     let run_id = names::new_run_id();
     let run_dir = out
         .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}-{run_id}", scenario.run.name)));
-    let run_dir = match claim_run_dir(&run_dir, &scenario.to_toml()) {
+    let run_dir = match claim_run_dir(&run_dir, &checked.text) {
         Ok(d) => d,
         Err(e) => {
             eprintln!("error: {e}");
@@ -73,7 +70,7 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
             return EXIT_RUN_FAILED;
         }
     };
-    let (end, children, estimate) = runtime.block_on(supervise_run(&checked, &run_id, &run_dir));
+    let (end, children) = runtime.block_on(supervise_run(&checked, &run_id, &run_dir));
     names::cleanup_dead_nodes();
 
     let (status, code) = match &end {
@@ -82,9 +79,7 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
         End::Refused(_) => ("refused", EXIT_BAD_INPUT),
         End::Interrupted => ("interrupted", EXIT_INTERRUPTED),
     };
-    let manifest = manifest(
-        &checked, &run_id, &end, &children, estimate, status, started,
-    );
+    let manifest = manifest(&checked, &run_id, &end, &children, status, started);
     let _ = std::fs::write(
         run_dir.join("manifest.json"),
         serde_json::to_string_pretty(&manifest).unwrap_or_default(),
@@ -159,7 +154,6 @@ struct Flags {
     /// The participants that have sent their statistics, so that their
     /// exits are expected.
     finished: Arc<Mutex<Vec<String>>>,
-    estimate: Arc<Mutex<Option<Estimate>>>,
 }
 
 type Done = oneshot::Receiver<Result<coupling::Outcome, CouplingError>>;
@@ -168,11 +162,10 @@ async fn supervise_run(
     checked: &super::Checked,
     run_id: &str,
     run_dir: &Path,
-) -> (End, Vec<Child>, Option<Estimate>) {
+) -> (End, Vec<Child>) {
     let flags = Flags {
         abort: Arc::new(AtomicBool::new(false)),
         finished: Arc::new(Mutex::new(Vec::new())),
-        estimate: Arc::new(Mutex::new(None)),
     };
     let (thread, ready_rx, mut done_rx) = coupling_thread(checked, run_id, run_dir, &flags);
     // Signals are caught from before the first child starts to the end.
@@ -223,8 +216,7 @@ async fn supervise_run(
         c.drain().await;
     }
     let _ = tokio::task::spawn_blocking(move || thread.join()).await;
-    let estimate = flags.estimate.lock().ok().and_then(|e| *e);
-    (end.unwrap_or(End::Interrupted), children, estimate)
+    (end.unwrap_or(End::Interrupted), children)
 }
 
 /// Start the thread that speaks to the participants; it says on the first
@@ -247,7 +239,7 @@ fn coupling_thread(
         run_id: run_id.to_string(),
         run_dir: run_dir.to_path_buf(),
         scenario_path: checked.path.clone(),
-        scenario: scenario.to_toml(),
+        scenario: checked.text.clone(),
         participants: names.clone(),
         timing: super::timing(&scenario),
     };
@@ -266,7 +258,6 @@ fn coupling_thread(
         let mut progress = Progress::new(&run.name, run.start_time, run.end_time);
         let shared = Shared {
             finished: &flags.finished,
-            estimate: &flags.estimate,
         };
         let result = coupling::run(
             &mut sup,
@@ -502,7 +493,6 @@ fn manifest(
     run_id: &str,
     end: &End,
     children: &[Child],
-    estimate: Option<Estimate>,
     status: &str,
     started: Instant,
 ) -> serde_json::Value {
@@ -531,10 +521,9 @@ fn manifest(
             "structure_substeps": s.coupling.structure_substeps,
             "impulse_substeps": s.coupling.impulse_substeps,
             "windows": super::timing(s).windows(),
-            "integrator": s.structure.as_ref().map(|st| st.integrator.name()),
             "structure_dt_s": s.coupling.structure_dt(),
         },
-        "stability": estimate.map(|e| stability_json(s, &e)),
+        "checked": checked_json(&checked.answers),
         "coupler": {
             "wall_s": started.elapsed().as_secs_f64(),
             "cpu_s": participant::cpu_seconds(),
@@ -548,24 +537,17 @@ fn manifest(
     })
 }
 
-/// From the ω_max the structure reported (dissertation eq. 3.7): the largest
-/// stable step of the integrator and the sub-steps it needs.
-fn stability_json(s: &scenario::Scenario, e: &Estimate) -> serde_json::Value {
-    let interval = s
-        .structure
-        .as_ref()
-        .map(|st| stability::interval(st.scheme()));
-    json!({
-        "omega_max": e.omega_max,
-        "interval": interval.map(|i| i.label()),
-        "interval_omega_h": interval.and_then(|i| match i {
-            stability::Interval::Bounded(y) => Some(y),
-            _ => None,
-        }),
-        "stable_dt_s": e.stable_dt,
-        "n_s": e.n_s,
-        "n_s_seed": e.n_s_seed,
-    })
+/// What each participant's `--check` answer gives the manifest (a
+/// structure's integrator and stability estimate, for example).
+fn checked_json(answers: &[(String, scenario::Answer)]) -> serde_json::Value {
+    let by_name: serde_json::Map<String, serde_json::Value> = answers
+        .iter()
+        .map(|(name, a)| {
+            let values = serde_json::to_value(&a.manifest).unwrap_or_default();
+            (name.clone(), values)
+        })
+        .collect();
+    serde_json::Value::Object(by_name)
 }
 
 /// Where the coupled run's wall time went: the participants' own work,

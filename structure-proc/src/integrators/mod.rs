@@ -25,7 +25,7 @@ use crate::forces::assembly::GRAIN;
 pub use crate::system::System;
 pub use newton::extent;
 use rayon::prelude::*;
-pub use scenario::structure::{NewtonParams, Scheme};
+pub use structure_section::{NewtonParams, Scheme};
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StepError {

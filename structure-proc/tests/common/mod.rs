@@ -1,12 +1,12 @@
 //! Models shared by the structure tests.
 #![allow(dead_code)]
 
-pub use scenario::structure::{
+use structure_proc::forces::damping::Law;
+use structure_proc::Model;
+pub use structure_section::{
     Annulus, Damping, Elasticity, Fabric, Fibre, Integrator, Membrane, NewtonParams, Scheme,
     StructureSection,
 };
-use structure_proc::forces::damping::Law;
-use structure_proc::Model;
 
 pub fn uniform(k: f64) -> Elasticity {
     Elasticity::Uniform(k)

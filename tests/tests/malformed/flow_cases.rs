@@ -250,7 +250,7 @@ pub const CASES: &[Case] = &[
             )
         },
         key: Some("participants.structure.ranks"),
-        says: "ranks is for the fluid participant only",
+        says: "structure-proc runs as one process",
         line_of: Some("ranks = 2"),
     },
     Case {

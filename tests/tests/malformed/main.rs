@@ -30,7 +30,7 @@ const CASES: &[Case] = &[
         name: "unknown-table",
         edit: |t| format!("{t}\n[bogus]\nx = 1\n"),
         key: Some("bogus"),
-        says: "unknown field `bogus`",
+        says: "no participant `bogus` is listed",
         line_of: Some("[bogus]"),
     },
     Case {
@@ -569,6 +569,8 @@ fn a_fifo_given_as_the_scenario_is_refused_not_waited_on() {
     let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
     // SAFETY: mkfifo only reads the path we pass.
     assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    // The clock starts once the executables are built.
+    ensure_built();
     let started = std::time::Instant::now();
     let out = coupler(&["check", fifo.to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&out.stderr);

@@ -4,8 +4,8 @@
 //! (`[[fluid.regions]]`). The box and its sides are the flow keys of
 //! `flow.rs`.
 
-use super::check::Checker;
 use super::flow::{FlowBox, SideSpec, SIDE_KEYS};
+use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
 /// Ratio of specific heats of air, κ = 1.4 (ISA, ISO 2533:1975): a

@@ -2,8 +2,8 @@
 //! (dissertation §2.5, §3.4: the point-against-body tests of the collision
 //! module, with the body as one impact zone).
 
-use super::check::Checker;
-use super::rigid::{check_restitution, RigidSection};
+use rigid_section::{check_restitution, RigidSection};
+use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
 /// Default proximity layer [m]: a fabric's order of thickness, well above

@@ -1,8 +1,8 @@
 //! `[structure.parachute]` and `[structure.cloth]`: the generated structures of
 //! dissertation §2.3, §4.2 (parachutes with suspension lines) and §4.3 (cloth).
 
-use super::check::Checker;
-use super::structure::Fabric;
+use super::Fabric;
+use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
 /// Feet and inches to metres (exact, international foot of 1959).

@@ -2,12 +2,26 @@
 //! mass points, or finite bodies with a shape whose mass, centre of mass and
 //! inertia come from their geometry.
 
-use super::check::Checker;
-use super::mesh::TriangleMesh;
-use super::structure::default_gravity;
+use mesh::TriangleMesh;
 use nalgebra::{Rotation3, Vector3};
+use scenario::{section, Checker, Problem, ScenarioError, Seg};
 use serde::{Deserialize, Serialize};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+mod attachments;
+pub mod mesh;
+mod scene;
+
+pub use attachments::{attachments, AttachmentSpec};
+pub use scene::Scene;
+
+/// Standard acceleration of gravity [m/s²] (3rd CGPM, 1901).
+pub const STANDARD_GRAVITY: f64 = 9.80665;
+
+/// Gravity pointing down −z, the default of every section that takes one.
+pub fn default_gravity() -> [f64; 3] {
+    [0.0, 0.0, -STANDARD_GRAVITY]
+}
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -141,13 +155,39 @@ impl RigidSection {
             .unwrap_or(0.0)
     }
 
+    /// `[rigid]` of the scenario `text` (read from `path`), checked, with
+    /// its mesh files read relative to the scenario's folder; None when the
+    /// file has no `[rigid]` table.
+    pub fn load(path: &Path, text: &str) -> Result<Option<RigidSection>, ScenarioError> {
+        let Some(mut rigid) = section::read::<RigidSection>(path, text, "rigid")? else {
+            return Ok(None);
+        };
+        section::checked(path, text, |c| rigid.check(c))?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        rigid.resolve_meshes(dir).map_err(|(i, e)| {
+            let at = |k: &str| Seg::Key(k.into());
+            let problem = Problem {
+                path: vec![
+                    at("rigid"),
+                    at("bodies"),
+                    Seg::Index(i),
+                    at("shape"),
+                    at("file"),
+                ],
+                message: e.to_string(),
+            };
+            ScenarioError::from_problem(path, text, problem)
+        })?;
+        Ok(Some(rigid))
+    }
+
     /// Make mesh paths absolute (relative to `dir`, the scenario's folder) and
     /// read every mesh, so a bad one is reported before anything starts.
     /// Returns the index of the body and the mesh error on failure.
     pub fn resolve_meshes(
         &mut self,
         dir: &std::path::Path,
-    ) -> Result<(), (usize, super::mesh::MeshError)> {
+    ) -> Result<(), (usize, mesh::MeshError)> {
         for (i, b) in self.bodies.iter_mut().enumerate() {
             if let Some(ShapeSpec::Mesh { file }) = &mut b.shape {
                 if file.is_relative() {
@@ -158,7 +198,7 @@ impl RigidSection {
                 if b.density.is_none() && b.mass.is_some_and(|m| !(m / volume).is_finite()) {
                     return Err((
                         i,
-                        super::mesh::MeshError {
+                        mesh::MeshError {
                             file: file.clone(),
                             line: None,
                             message: format!("encloses too small a volume ({volume:e} m³)"),
@@ -221,7 +261,7 @@ pub fn pair_restitution(a: f64, b: f64) -> f64 {
     0.5 * (a + b)
 }
 
-pub(super) fn check_restitution(c: &mut Checker, r: f64) {
+pub fn check_restitution(c: &mut Checker, r: f64) {
     if !(0.0..=1.0).contains(&r) {
         c.problem(
             &["restitution"],

@@ -1,23 +1,22 @@
 //! `[structure]`: the spring-mass canopy and strings (thesis §2.1, §3.2).
 
-use super::check::Checker;
-pub use super::collision::Collision;
-use super::fluid::PorousLoad;
-pub use super::integrator::{
-    AdaptiveParams, HhtParams, Integrator, NewmarkParams, NewtonParams, Scheme,
-};
-pub use super::parachute::{
+pub use collision::Collision;
+pub use fluid_section::PorousLoad;
+pub use integrator::{AdaptiveParams, HhtParams, Integrator, NewmarkParams, NewtonParams, Scheme};
+pub use parachute::{
     Cloth, ClothHold, ClothPlane, LineBreak, LineChange, Parachute, ParachuteModel,
 };
-use super::rigid::RigidSection;
+pub use rigid_section::{default_gravity, AttachmentSpec, RigidSection, STANDARD_GRAVITY};
+use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
-/// Standard acceleration of gravity [m/s²] (3rd CGPM, 1901).
-pub const STANDARD_GRAVITY: f64 = 9.80665;
+pub mod canopy_in_flow;
+pub mod collision;
+pub mod integrator;
+pub mod parachute;
+mod scene;
 
-pub fn default_gravity() -> [f64; 3] {
-    [0.0, 0.0, -STANDARD_GRAVITY]
-}
+pub use scene::Scene;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -236,14 +235,6 @@ pub struct StringSpec {
     pub compressive_tolerance: f64,
 }
 
-/// Where a structure node is attached to a rigid body: the body's name and
-/// the point in the body's own frame [m] (dissertation fig. 2.5).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AttachmentSpec<'a> {
-    pub body: &'a str,
-    pub point: [f64; 3],
-}
-
 /// A named mass point of a hand-built network.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -278,16 +269,16 @@ impl StructureSection {
     /// The rigid body of every attachment point, in the order structure
     /// solvers number them and exchange their state and impulses: the
     /// parachute's confluence first, then the strings of `[[structure.strings]]`.
-    pub fn attachments(&self) -> Vec<AttachmentSpec<'_>> {
+    pub fn attachments(&self) -> Vec<AttachmentSpec> {
         let confluence = self.parachute.iter().filter_map(|p| {
-            p.body.as_deref().map(|body| AttachmentSpec {
+            p.body.clone().map(|body| AttachmentSpec {
                 body,
                 point: p.body_point,
             })
         });
         confluence
             .chain(self.strings.iter().map(|st| AttachmentSpec {
-                body: &st.body,
+                body: st.body.clone(),
                 point: st.body_point,
             }))
             .collect()
@@ -329,7 +320,7 @@ impl StructureSection {
             if let Some(k) = &self.collision {
                 k.check(c, rigid);
             }
-            super::integrator::check_params(c, &self.newmark, &self.hht, &self.newton, &self.adaptive);
+            integrator::check_params(c, &self.newmark, &self.hht, &self.newton, &self.adaptive);
             match (self.damping, self.damping_coefficient) {
                 (Damping::Viscous, None) => c.problem(&["damping_coefficient"],
                     "damping = \"viscous\" needs damping_coefficient = c (N·s/m, dissertation eq. 2.38)".into()),

@@ -2,7 +2,7 @@
 //! "incompressible"`, dissertation §3.2.2): the box of cells `[fluid.box]` and
 //! what each of its sides does to the flow, `[fluid.sides]`.
 
-use super::check::Checker;
+use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
 /// Most cells a flow box may have (guards memory against typos: 10⁸ cells

@@ -1,7 +1,7 @@
 //! `[structure] integrator = "…"` and the parameters of the schemes that have any
 //! (thesis §2.4).
 
-use super::check::Checker;
+use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
 /// The time integrator of the structure, one key in the scenario.

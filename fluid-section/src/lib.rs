@@ -8,22 +8,18 @@
 //! - `euler`: the compressible Euler solver of dissertation §3.2.1 on the same
 //!   box (`gas.rs`: `gamma`, `cfl`, `[[fluid.regions]]`).
 
-use super::check::Checker;
-use super::flow::{FlowBox, FlowSides};
-use super::gas::{self, GasRegion, AIR_GAMMA, DEFAULT_CFL};
+use flow::{FlowBox, FlowSides};
+use gas::{GasRegion, AIR_GAMMA, DEFAULT_CFL};
+pub use porous_load::{PorousLoad, AIR_DENSITY, AIR_VISCOSITY};
+use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
-/// Density of air at sea level, ISA (ISO 2533:1975) [kg/m³].
-pub const AIR_DENSITY: f64 = 1.225;
-/// Dynamic viscosity of air at 15 °C, ISA (ISO 2533:1975) [Pa·s].
-pub const AIR_VISCOSITY: f64 = 1.7894e-5;
+pub mod flow;
+pub mod gas;
+mod porous_load;
+mod scene;
 
-fn air_density() -> f64 {
-    AIR_DENSITY
-}
-fn air_viscosity() -> f64 {
-    AIR_VISCOSITY
-}
+pub use scene::{Scene, POROSITY_WITHOUT_CANOPY};
 
 /// Which keys of `[fluid]` each model takes, and which of those it needs.
 const MODEL_KEYS: [(FluidModel, &[&str], &[&str]); 3] = [
@@ -184,7 +180,7 @@ impl FluidSection {
     }
 
     /// Every side of the flow box, defaults filled in.
-    pub fn resolved_sides(&self) -> Option<[[super::flow::SideSpec; 2]; 3]> {
+    pub fn resolved_sides(&self) -> Option<[[flow::SideSpec; 2]; 3]> {
         let b = self.flow_box?;
         Some(self.sides.unwrap_or_default().resolved(b.cells))
     }
@@ -286,52 +282,5 @@ impl FluidSection {
                 c.finite3(&["initial_velocity"], v);
             }
         });
-    }
-}
-
-/// The Darcy–Forchheimer (Ergun) load of a uniform stream through a porous
-/// fabric, thesis eqs. (6)–(10). `[fluid]` gives these keys to fluid-proc's
-/// porous free-stream model; `[structure.porous]` gives the same keys to a
-/// structure solver that applies the load itself, with no fluid process.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PorousLoad {
-    /// Free-stream velocity of the air [m/s].
-    pub free_stream: [f64; 3],
-    /// Air density ρ [kg/m³].
-    #[serde(default = "air_density")]
-    pub density: f64,
-    /// Air dynamic viscosity μ [Pa·s].
-    #[serde(default = "air_viscosity")]
-    pub viscosity: f64,
-    /// Fabric porosity ε (0 < ε < 1), thesis eqs. (7)–(9).
-    pub porosity: f64,
-    /// Characteristic (Ergun) diameter D [m], thesis eqs. (7)–(8).
-    pub diameter: f64,
-    /// Fabric thickness e [m], thesis eq. (6).
-    pub thickness: f64,
-}
-
-impl PorousLoad {
-    /// The law's parameters, as the `porous` crate takes them.
-    pub fn params(&self) -> porous::Params {
-        porous::Params {
-            free_stream: self.free_stream,
-            density: self.density,
-            viscosity: self.viscosity,
-            porosity: self.porosity,
-            diameter: self.diameter,
-            thickness: self.thickness,
-        }
-    }
-
-    /// Checks the keys relative to the table `c` is in.
-    pub fn check(&self, c: &mut Checker) {
-        c.finite3(&["free_stream"], self.free_stream);
-        c.positive(&["density"], self.density, "kg/m³");
-        c.positive(&["viscosity"], self.viscosity, "Pa·s");
-        c.fraction(&["porosity"], self.porosity);
-        c.positive(&["diameter"], self.diameter, "m");
-        c.positive(&["thickness"], self.thickness, "m");
     }
 }

@@ -1,42 +1,26 @@
 //! What the incompressible flow needs of the structure's canopy, checked
-//! before a run: fabric keys only with a canopy surface to carry them, and
+//! by the structure before a run (it knows its canopy, and reads the
+//! flow's box through fluid-section): fabric keys only with a canopy surface to carry them, and
 //! in a 2-D box (one cell along an axis) a canopy that spans that cell, as
 //! fluid-proc's markers act across the whole depth.
 
-use super::check::Checker;
-use super::fluid::{FluidModel, FluidSection};
-use super::parachute::ClothPlane;
-use super::structure::StructureSection;
+use crate::{ClothPlane, StructureSection};
+use fluid_section::{FluidModel, FluidSection, POROSITY_WITHOUT_CANOPY};
+use scenario::Checker;
 
-/// Checks the canopy of `structure` (None: no `[structure]` section) in the
-/// flow of `fluid`, when that is the incompressible model; `listed` says
-/// whether a participant `structure` is.
-pub fn check(
-    c: &mut Checker,
-    fluid: &FluidSection,
-    listed: bool,
-    structure: Option<&StructureSection>,
-) {
+/// Checks the canopy of `s` in the flow of `fluid`, when that is the
+/// incompressible model.
+pub fn check(c: &mut Checker, fluid: &FluidSection, s: &StructureSection) {
     if fluid.model != FluidModel::Incompressible {
         return;
     }
-    let surface = structure
-        .is_some_and(|s| s.annulus.is_some() || s.parachute.is_some() || s.cloth.is_some());
-    if fluid.porosity.is_some() && !(listed && surface) {
-        c.problem(
-            &["fluid", "porosity"],
-            "porosity, diameter and thickness describe the canopy's fabric, but no participant \
-             `structure` sends a canopy surface ([structure.annulus], [structure.parachute] or \
-             [structure.cloth]): give one, or leave the keys out"
-                .into(),
-        );
+    let surface = s.annulus.is_some() || s.parachute.is_some() || s.cloth.is_some();
+    if fluid.porosity.is_some() && !surface {
+        c.problem(&["fluid", "porosity"], POROSITY_WITHOUT_CANOPY.into());
     }
-    let (Some(b), Some(s)) = (&fluid.flow_box, structure) else {
+    let Some(b) = &fluid.flow_box else {
         return;
     };
-    if !listed {
-        return;
-    }
     let Some(thin) = (0..3).find(|&d| b.cells[d] == 1) else {
         return;
     };

@@ -1,0 +1,136 @@
+//! What fluid-proc reads of a scenario, checked as one: the coupling part,
+//! `[fluid]`, and the bodies of `[rigid]` that stand in the flow; and the
+//! checks that need the coupling part (ranks, the window's Courant number,
+//! which partners each model can take).
+
+use crate::flow::{HALO_CELLS, MAX_COURANT};
+use crate::{FluidModel, FluidSection};
+use rigid_section::RigidSection;
+use scenario::{section, Checker, Scenario, ScenarioError};
+use std::path::Path;
+
+/// The message for fabric keys with no canopy to carry them; the structure
+/// gives the same one when it is listed but sends no canopy surface.
+pub const POROSITY_WITHOUT_CANOPY: &str = "porosity, diameter and thickness describe the \
+     canopy's fabric, but no participant `structure` sends a canopy surface \
+     ([structure.annulus], [structure.parachute] or [structure.cloth]): give one, or leave the \
+     keys out";
+
+/// The scenario as fluid-proc reads it.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub scenario: Scenario,
+    pub fluid: FluidSection,
+    /// `[rigid]`, when participant `rigid` is listed: its shaped bodies
+    /// are immersed boundaries of the incompressible flow.
+    pub rigid: Option<RigidSection>,
+}
+
+impl Scene {
+    /// Reads and checks the scenario text from `path`, as `--check` and a
+    /// run both do.
+    pub fn load(path: &Path, text: &str) -> Result<Scene, ScenarioError> {
+        let scenario = Scenario::parse(path, text)?;
+        let fluid = section::read::<FluidSection>(path, text, "fluid")?
+            .ok_or_else(|| section::missing(path, "fluid", "fluid-proc"))?;
+        section::checked(path, text, |c| {
+            fluid.check(c);
+            check_partners(c, &scenario, &fluid);
+        })?;
+        let rigid = match scenario.participants.lists("rigid") {
+            true => RigidSection::load(path, text)?,
+            false => None,
+        };
+        Ok(Scene {
+            scenario,
+            fluid,
+            rigid,
+        })
+    }
+
+    /// [`Scene::load`] of the file at `path`.
+    pub fn load_file(path: &Path) -> Result<Scene, ScenarioError> {
+        Scene::load(path, &scenario::read_text(path)?)
+    }
+}
+
+/// The checks of `[fluid]` against the coupling part.
+fn check_partners(c: &mut Checker, scenario: &Scenario, s: &FluidSection) {
+    let listed = |name| scenario.participants.lists(name);
+    // The incompressible flow takes the canopy and rigid bodies (immersed
+    // boundaries); the gas takes neither yet.
+    if s.model == FluidModel::Euler && (listed("structure") || listed("rigid")) {
+        c.problem(
+            &["fluid", "model"],
+            "model = \"euler\" is not coupled to a structure or rigid bodies yet: use \
+             model = \"incompressible\" or \"porous-free-stream\" for such a scene"
+                .into(),
+        );
+    }
+    if s.model == FluidModel::Incompressible && s.porosity.is_some() && !listed("structure") {
+        c.problem(&["fluid", "porosity"], POROSITY_WITHOUT_CANOPY.into());
+    }
+    let ranks = scenario.participants.get("fluid").map_or(1, |f| f.ranks());
+    if ranks > 1 {
+        check_ranks(c, s, ranks);
+    }
+    let window = scenario.coupling.window;
+    let courant = s.start_courant(window).unwrap_or(0.0);
+    if courant > MAX_COURANT {
+        c.problem(
+            &["coupling", "window"],
+            format!(
+                "window = {window} s is one flow step, and at the sides' speed it crosses \
+                 {courant:.3} cells (the Courant number): more than {MAX_COURANT} is unstable, \
+                 so shorten it"
+            ),
+        );
+    }
+}
+
+/// Whether the fluid can run on `ranks` ranks: a model split among ranks
+/// (euler and incompressible), and slabs at least as thick as the
+/// stencil's reach, so that each rank's halo comes from its two neighbours.
+fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32) {
+    let key = ["participants", "fluid", "ranks"];
+    if s.model == FluidModel::PorousFreeStream {
+        c.problem(
+            &key,
+            format!(
+                "ranks = {ranks}: model = \"{}\" has no cells to split and runs on one rank",
+                s.model.name()
+            ),
+        );
+        return;
+    }
+    let Some(b) = s.flow_box else { return };
+    let axis = if s.model == FluidModel::Euler {
+        // The one with the most cells, the last of equals.
+        (0..3).rev().max_by_key(|&d| (b.cells[d], d)).unwrap_or(0)
+    } else {
+        // The slowest in memory more than one cell thick (fluid-proc's part.rs).
+        match (1..3).rev().find(|&d| b.cells[d] > 1) {
+            Some(d) => d,
+            None => {
+                c.problem(
+                    &key,
+                    format!("ranks = {ranks}: the incompressible flow is split along y or z, and this box is one cell thick along both"),
+                );
+                return;
+            }
+        }
+    };
+    if u64::from(b.cells[axis]) < u64::from(HALO_CELLS) * u64::from(ranks) {
+        c.problem(
+            &key,
+            format!(
+                "ranks = {ranks} leaves fewer than {} cells per rank along {} ({} cells): use fewer ranks",
+                HALO_CELLS,
+                ["x", "y", "z"][axis],
+                b.cells[axis]
+            ),
+        );
+    }
+}
+
+scenario::reads_through!(Scene);

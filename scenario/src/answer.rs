@@ -1,0 +1,76 @@
+//! What a participant's program answers to `PROGRAM --check SCENARIO`: the
+//! contract by which the coupler checks sections it does not know.
+//!
+//! - All good: exit 0 and, on stdout, nothing or an [`Answer`] in TOML
+//!   (notes for `coupler check` to print, warnings, and values for the run's
+//!   manifest).
+//! - Bad input: exit 2 and one line per problem on stderr, each as
+//!   [`ScenarioError`] prints it (`file:line:col: key `k`: message`).
+//!
+//! [`answer_check`] does both for a program written in Rust.
+
+use crate::error::ScenarioError;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The flag a participant's program answers (`PROGRAM --check SCENARIO`).
+pub const CHECK_FLAG: &str = "--check";
+
+/// Exit code of a program that found bad input.
+pub const EXIT_BAD_INPUT: i32 = 2;
+
+/// A participant's answer to `--check` when its section is good.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Answer {
+    /// Lines `coupler check` prints under the participant's name.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
+    /// Things the user should know before a run (for example a step above
+    /// the integrator's stability limit); printed on stderr, never fatal.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+    /// Values the run's `manifest.json` records under
+    /// `checked.<participant>` (for example the stability estimate).
+    #[serde(default, skip_serializing_if = "toml::Table::is_empty")]
+    pub manifest: toml::Table,
+}
+
+impl Answer {
+    /// The answer as the program prints it.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("an answer always serialises")
+    }
+
+    /// Reads a program's stdout.
+    pub fn parse(text: &str) -> Result<Answer, String> {
+        toml::from_str(text).map_err(|e| e.message().trim().to_string())
+    }
+}
+
+/// Answers `--check SCENARIO` when those are the program's arguments: reads
+/// the file, calls `check` with its path and text, prints the answer or the
+/// problem, and exits 0 or 2. Returns (doing nothing) for any other
+/// arguments, so a program's `main` starts with it.
+pub fn answer_check(check: impl FnOnce(&Path, &str) -> Result<Answer, ScenarioError>) {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let [flag, path] = args.as_slice() else {
+        return;
+    };
+    if flag != CHECK_FLAG {
+        return;
+    }
+    let path = Path::new(path);
+    let result = crate::read_text(path).and_then(|text| check(path, &text));
+    match result {
+        Ok(answer) => {
+            print!("{}", answer.to_toml());
+            std::process::exit(0);
+        }
+        Err(e) => {
+            // The line as the coupler relays it: it starts with the file.
+            eprintln!("{e}");
+            std::process::exit(EXIT_BAD_INPUT);
+        }
+    }
+}
