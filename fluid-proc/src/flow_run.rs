@@ -172,26 +172,14 @@ fn run(
     let mut steps = 0u64;
     loop {
         let command = p.next_command().map_err(|e| Stopped::before_order(c, e))?;
-        let order = match &command {
-            Command::Initialize => Order::Monitors,
-            Command::Output { index, time } => Order::Output {
-                index: *index,
-                time: *time,
-            },
-            Command::Advance(a) => {
-                let flow = &mut f.flow;
-                if let Err(e) = place(p, &mut bodies, &mut canopy, with_canopy, flow) {
-                    let msg = format!("at t = {} s: {e}", flow.time);
-                    return Err(Stopped::before_order(c, fail(p, msg)));
-                }
-                Order::Advance {
-                    dt: a.dt,
-                    substeps: a.substeps,
-                    window_end: a.window_end,
-                }
+        if let Command::Advance(_) = command {
+            let flow = &mut f.flow;
+            if let Err(e) = place(p, &mut bodies, &mut canopy, with_canopy, flow) {
+                let msg = format!("at t = {} s: {e}", flow.time);
+                return Err(Stopped::before_order(c, fail(p, msg)));
             }
-            Command::Stop => Order::Stop,
-        };
+        }
+        let order = Order::of(&command);
         let done = obey(f, order.share(c)).map_err(|msg| Stopped {
             error: fail(p, msg),
             together: true,
@@ -208,11 +196,14 @@ fn run(
             }
             (Command::Output { index, time }, Done::Output(Some((velocity, pressure)))) => {
                 let g = flow.grid();
+                let cell_data: Vec<(&str, usize, &[f64])> =
+                    vec![("velocity", 3, &velocity), ("pressure", 1, &pressure)];
+                let (spacing, cells) = (g.h, g.n);
                 let image = Image {
                     origin,
-                    spacing: g.h,
-                    cells: g.n,
-                    cell_data: vec![("velocity", 3, &velocity), ("pressure", 1, &pressure)],
+                    spacing,
+                    cells,
+                    cell_data,
                 };
                 series.write_image(index, time, &image)?;
                 p.done(Vec::new())?

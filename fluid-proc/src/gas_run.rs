@@ -89,19 +89,7 @@ fn run(
     loop {
         // A failure to hear the coupler stops the other ranks too.
         let command = p.next_command();
-        let order = match &command {
-            Ok(Command::Initialize) => Order::Monitors,
-            Ok(Command::Output { index, time }) => Order::Output {
-                index: *index,
-                time: *time,
-            },
-            Ok(Command::Advance(a)) => Order::Advance {
-                dt: a.dt,
-                substeps: a.substeps,
-                window_end: a.window_end,
-            },
-            _ => Order::Stop,
-        };
+        let order = command.as_ref().map_or(Order::Stop, Order::of);
         order.share(comm.as_ref());
         match (command?, obey(&mut gas, order)) {
             (_, Err(e)) => {

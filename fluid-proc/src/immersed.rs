@@ -318,6 +318,56 @@ fn interpolate(u: &Faces, m: &[[usize; 3]; 3], r: &Reaches) -> [f64; 3] {
 /// The air's velocity [m/s] at each marker of the bodies `pick` chooses
 /// (none at the others'). Split among ranks, each interpolates from its own
 /// faces and the shares are summed over the ranks, so that every rank sees
+/// The porous sheets' pushes, from the air `air` at their markers: the
+/// Ergun drag (thesis eqs. 6–10) on the air crossing each marker, implicit
+/// in the crossing speed (κ = Δt·weight/(ρ·h)), over the step Δt in air of
+/// density ρ.
+fn porous_pushes(
+    bodies: &[&mut ImmersedBody],
+    air: &[Vec<[f64; 3]>],
+    kappa: f64,
+    [dt, density]: [f64; 2],
+    pushes: &mut [Vec<[f64; 3]>],
+) {
+    for (b, body) in bodies.iter().enumerate() {
+        let Some([a, bb]) = body.porous else { continue };
+        for ((k, air), v) in body.markers.iter().zip(&air[b]).zip(&body.targets) {
+            let n = k.normal;
+            let seen: f64 = (0..3).map(|d| (air[d] - v[d]) * n[d]).sum();
+            let linear = 1.0 + kappa * a;
+            let root = (linear * linear + 4.0 * kappa * bb * seen.abs()).sqrt();
+            let w = 2.0 * seen / (linear + root);
+            let drop = a * w + bb * w * w.abs();
+            pushes[b].push(n.map(|n| -dt * drop * n * k.area / density));
+        }
+    }
+}
+
+/// The other bodies' pushes (one forcing pass): the momentum per unit
+/// density, F_k ΔV_k Δt, that brings the air at each marker to the marker's
+/// velocity; across a closed sheet only along its normal.
+fn solid_pushes(
+    bodies: &[&mut ImmersedBody],
+    air: &[Vec<[f64; 3]>],
+    spacing: f64,
+    pushes: &mut [Vec<[f64; 3]>],
+) {
+    for (b, body) in bodies.iter().enumerate() {
+        pushes[b].clear();
+        if body.porous.is_some() {
+            continue;
+        }
+        for ((k, air), v) in body.markers.iter().zip(&air[b]).zip(&body.targets) {
+            let mut e = [0, 1, 2].map(|d| v[d] - air[d]);
+            if body.sheet {
+                let across: f64 = (0..3).map(|d| e[d] * k.normal[d]).sum();
+                e = k.normal.map(|n| across * n);
+            }
+            pushes[b].push(e.map(|e| e * k.area * spacing));
+        }
+    }
+}
+
 /// the whole kernel's and computes the same forcing.
 fn air_at(
     u: &Faces,
@@ -426,18 +476,7 @@ pub fn force(
     // explicit forcing), so the order of the markers does not matter.
     let mut pushes: Vec<Vec<[f64; 3]>> = vec![Vec::new(); bodies.len()];
     let air = air_at(u, &m, &reach, |b| bodies[b].porous.is_some(), part);
-    for (b, body) in bodies.iter().enumerate() {
-        let Some([a, bb]) = body.porous else { continue };
-        for ((k, air), v) in body.markers.iter().zip(&air[b]).zip(&body.targets) {
-            let n = k.normal;
-            let seen: f64 = (0..3).map(|d| (air[d] - v[d]) * n[d]).sum();
-            let linear = 1.0 + kappa * a;
-            let root = (linear * linear + 4.0 * kappa * bb * seen.abs()).sqrt();
-            let w = 2.0 * seen / (linear + root);
-            let drop = a * w + bb * w * w.abs();
-            pushes[b].push(n.map(|n| -dt * drop * n * k.area / density));
-        }
-    }
+    porous_pushes(bodies, &air, kappa, [dt, density], &mut pushes);
     let apply = |pushes: &[Vec<[f64; 3]>], u: &mut Faces, bodies: &mut [&mut ImmersedBody]| {
         for (b, body) in bodies.iter_mut().enumerate() {
             for (k, push) in pushes[b].iter().enumerate() {
@@ -453,21 +492,7 @@ pub fn force(
         // Across a porous sheet the drag did the work: only the others
         // are forced again.
         let air = air_at(u, &m, &reach, |b| bodies[b].porous.is_none(), part);
-        for (b, body) in bodies.iter().enumerate() {
-            pushes[b].clear();
-            if body.porous.is_some() {
-                continue;
-            }
-            for ((k, air), v) in body.markers.iter().zip(&air[b]).zip(&body.targets) {
-                let mut e = [0, 1, 2].map(|d| v[d] - air[d]);
-                if body.sheet {
-                    let across: f64 = (0..3).map(|d| e[d] * k.normal[d]).sum();
-                    e = k.normal.map(|n| across * n);
-                }
-                // F_k ΔV_k Δt: the momentum per unit density the marker adds.
-                pushes[b].push(e.map(|e| e * k.area * spacing));
-            }
-        }
+        solid_pushes(bodies, &air, spacing, &mut pushes);
         apply(&pushes, u, bodies);
     }
     for body in bodies.iter_mut() {

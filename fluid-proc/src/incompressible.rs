@@ -293,6 +293,23 @@ impl Incompressible {
         if courant > MAX_COURANT {
             return Err(FlowError::Courant(courant));
         }
+        let viscous_iterations = self.predict(dt)?;
+        self.force_immersed(dt);
+        let (pressure_iterations, pressure_seconds) = self.project(dt)?;
+        self.last_dt = Some(dt);
+        self.time += dt;
+        Ok(StepReport {
+            courant,
+            pressure_iterations,
+            pressure_seconds,
+            viscous_iterations,
+        })
+    }
+
+    /// The predicted velocity u* of eq. (3.18): advection by Adams–Bashforth,
+    /// viscosity by Crank–Nicolson (a Helmholtz solve per component), the
+    /// last pressure's gradient. Returns the Helmholtz iterations.
+    fn predict(&mut self, dt: f64) -> Result<usize, FlowError> {
         let grid = &self.local;
         let sides = &self.sides;
         let h = grid.h;
@@ -342,6 +359,12 @@ impl Incompressible {
             u.fill_ghosts(sides);
             u.store(&mut self.u);
         }
+        Ok(viscous_iterations)
+    }
+
+    /// The bodies' and canopy's direct forcing on u*, before the projection,
+    /// so that the projected field is divergence-free with them in it.
+    fn force_immersed(&mut self, dt: f64) {
         // A body without markers (a mass point) is not in the flow.
         let mut forced: Vec<&mut ImmersedBody> = self
             .bodies
@@ -356,6 +379,12 @@ impl Incompressible {
             force(global, &self.part, &mut self.u, dt, density, &mut forced);
             self.impose_sides();
         }
+    }
+
+    /// The projection and the pressure update of eq. (3.20); the Poisson
+    /// iterations and their wall time.
+    fn project(&mut self, dt: f64) -> Result<(usize, f64), FlowError> {
+        let nu = self.setup.nu;
         let grid = &self.local;
         let clock = std::time::Instant::now();
         let pressure_iterations = project(
@@ -373,14 +402,7 @@ impl Incompressible {
         for ((q, phi), a_phi) in self.q.iter_mut().zip(&self.phi).zip(&self.scratch) {
             *q += phi + alpha * a_phi;
         }
-        self.last_dt = Some(dt);
-        self.time += dt;
-        Ok(StepReport {
-            courant,
-            pressure_iterations,
-            pressure_seconds,
-            viscous_iterations,
-        })
+        Ok((pressure_iterations, pressure_seconds))
     }
 }
 

@@ -26,6 +26,21 @@ pub enum Order {
 }
 
 impl Order {
+    /// What the ranks do for the schedule's `command`.
+    pub fn of(command: &participant::Command) -> Order {
+        use participant::Command;
+        match *command {
+            Command::Initialize => Order::Monitors,
+            Command::Output { index, time } => Order::Output { index, time },
+            Command::Advance(a) => Order::Advance {
+                dt: a.dt,
+                substeps: a.substeps,
+                window_end: a.window_end,
+            },
+            Command::Stop => Order::Stop,
+        }
+    }
+
     /// As four numbers, for the broadcast.
     fn encode(self) -> [f64; 4] {
         match self {

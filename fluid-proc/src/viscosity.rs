@@ -14,7 +14,7 @@
 //! On a rank's slab (`part.rs`) the dot products are summed over the ranks
 //! (each face counted by the one rank that updates it).
 
-use crate::padded::Padded;
+use crate::padded::{Layout, Padded};
 use crate::side::Sides;
 
 /// out = L u = Σ_a (u₊ − 2u + u₋)/h_a² on the unknown faces (ghosts filled).
@@ -109,19 +109,9 @@ impl Helmholtz {
             .map(|a| (lay.stride[a], alpha * w[a]))
             .collect();
         for it in 1..=MAX_ITERATIONS {
-            // q = (I − αL)p, and p·q.
             self.p.fill_ghosts(&homogeneous);
-            let (p, q) = (&self.p.data, &mut self.q);
-            let mut pq = 0.0;
-            lay.for_box(range, |_, i| {
-                let mut v = p[i];
-                for &(s, aw) in &axes {
-                    v -= aw * (p[i + s] - 2.0 * p[i] + p[i - s]);
-                }
-                q[i] = v;
-                pq += p[i] * v;
-            });
-            let pq = part.sum(pq);
+            let pq = part.sum(self.apply(&axes, lay, range));
+            let p = &self.p.data;
             let step = rr / pq;
             if !step.is_finite() {
                 return Err(ViscousError {
@@ -151,5 +141,21 @@ impl Helmholtz {
             iterations: MAX_ITERATIONS,
             reached: rr.sqrt() / norm_b,
         })
+    }
+
+    /// q = (I − αL)p on this rank's unknowns (`axes`: each axis's stride and
+    /// α/h²); returns this rank's part of p·q.
+    fn apply(&mut self, axes: &[(usize, f64)], lay: Layout, range: [[isize; 2]; 3]) -> f64 {
+        let (p, q) = (&self.p.data, &mut self.q);
+        let mut pq = 0.0;
+        lay.for_box(range, |_, i| {
+            let mut v = p[i];
+            for &(s, aw) in axes {
+                v -= aw * (p[i + s] - 2.0 * p[i] + p[i - s]);
+            }
+            q[i] = v;
+            pq += p[i] * v;
+        });
+        pq
     }
 }

@@ -81,9 +81,24 @@ pub fn node(name: &str) -> Result<Node<Ipc>, ChannelError> {
     let node_name: NodeName = name.try_into().map_err(ipc_err("node name"))?;
     NodeBuilder::new()
         .name(&node_name)
+        .config(&node_config())
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<Ipc>()
         .map_err(ipc_err("create node"))
+}
+
+/// iceoryx2's defaults with its own cleanup of dead nodes off: run when a
+/// node is created or dropped or a service opened, it can wait for ever on
+/// a shared-memory file that a process killed while creating it left empty
+/// (iceoryx2 0.10 retries a zero-sized mapping with no timeout), and then
+/// a participant or the coupler hangs. The coupler cleans instead, between
+/// runs and with a time limit ([`cleanup_dead_nodes`]).
+fn node_config() -> Config {
+    let mut config = Config::global_config().clone();
+    config.global.node.cleanup_dead_nodes_on_creation = false;
+    config.global.node.cleanup_dead_nodes_on_destruction = false;
+    config.global.service.cleanup_dead_nodes_on_open = false;
+    config
 }
 
 // Both ends must open a service with identical settings, so one function each.
@@ -327,6 +342,11 @@ pub fn wait_until<T>(
 /// Sleep on `listener` for at most `slice`. A notification that arrived
 /// before is kept by the event, so this returns at once then.
 pub fn block(listener: &Listener<Ipc>, slice: Duration) -> Result<(), ChannelError> {
+    // iceoryx2 0.10 waits with SO_RCVTIMEO in whole microseconds, where 0
+    // means "for ever": a slice under 1 µs (the last moments before a
+    // deadline) would block until a wake-up that may never come. The
+    // coupler, which polls for rows posted without a wake-up, then hung.
+    let slice = slice.max(MIN_BLOCK);
     match listener.timed_wait(|_| {}, slice) {
         // A signal (SIGCHLD, SIGINT handled elsewhere) only cuts the wait short.
         Ok(_) | Err(ListenerWaitError::InterruptSignal) => Ok(()),
@@ -334,11 +354,55 @@ pub fn block(listener: &Listener<Ipc>, slice: Duration) -> Result<(), ChannelErr
     }
 }
 
+/// The shortest wait [`block`] passes to iceoryx2 (see there).
+pub const MIN_BLOCK: Duration = Duration::from_micros(1);
+
 /// Remove what dead canopy processes left behind (shared memory, service
 /// entries), and the entries of nodes whose process was killed while it
-/// created them. Returns how many dead nodes were cleaned.
+/// created them. Returns how many dead nodes were cleaned. Shared-memory
+/// files left empty go first (older than [`HALF_CREATED_AGE`]); should a
+/// fresher one still hold iceoryx2's cleanup, it is left to the next call
+/// after [`CLEANUP_WITHIN`].
 pub fn cleanup_dead_nodes() -> usize {
     quiet();
+    remove_empty_shared_memory(HALF_CREATED_AGE);
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(cleanup_listed_dead_nodes());
+    });
+    rx.recv_timeout(CLEANUP_WITHIN).unwrap_or(0)
+}
+
+/// How long [`cleanup_dead_nodes`] lets iceoryx2 clean.
+pub const CLEANUP_WITHIN: Duration = Duration::from_secs(2);
+
+/// Where iceoryx2 keeps its shared memory (POSIX shm on Linux); its files
+/// start with the config's prefix.
+const SHARED_MEMORY_DIR: &str = "/dev/shm";
+
+/// Removes iceoryx2's shared-memory files that are empty and older than
+/// `age`: a process was killed between creating one and sizing it (which
+/// takes microseconds), and iceoryx2 would wait for ever to open it.
+fn remove_empty_shared_memory(age: Duration) {
+    let prefix = Config::global_config().global.prefix.to_string();
+    let Ok(entries) = std::fs::read_dir(SHARED_MEMORY_DIR) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().to_string();
+        let Ok(meta) = e.metadata() else { continue };
+        let old = meta
+            .modified()
+            .is_ok_and(|t| t.elapsed().is_ok_and(|el| el > age));
+        if name.starts_with(&prefix) && meta.is_file() && meta.len() == 0 && old {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
+/// iceoryx2's cleanup of the dead nodes it lists; entries it cannot clean
+/// go by hand.
+fn cleanup_listed_dead_nodes() -> usize {
     let mut cleaned = 0;
     let mut unfinished = Vec::new();
     let _ = Node::<Ipc>::list(Config::global_config(), |state| {
@@ -437,4 +501,32 @@ pub fn services_of_run(run_id: &str) -> Vec<String> {
         CallbackProgression::Continue
     });
     found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_wait_of_less_than_a_microsecond_returns() {
+        // 1 ns became SO_RCVTIMEO = 0 s 0 µs, which blocks for ever.
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let name = format!("block-test-{}", std::process::id());
+            let node = node(&name).unwrap();
+            let listener = listener(&node, &format!("{name}/wake")).unwrap();
+            for slice in [
+                Duration::ZERO,
+                Duration::from_nanos(1),
+                Duration::from_nanos(999),
+            ] {
+                block(&listener, slice).unwrap();
+            }
+            tx.send(()).unwrap();
+        });
+        assert!(
+            rx.recv_timeout(Duration::from_secs(10)).is_ok(),
+            "a sub-microsecond wait blocked"
+        );
+    }
 }

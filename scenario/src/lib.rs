@@ -231,6 +231,13 @@ impl Scenario {
     }
 
     fn check(&self, c: &mut Checker) {
+        self.check_run(c);
+        self.check_coupling(c);
+        self.check_participants(c);
+    }
+
+    /// `[run]`: a name, a clock that runs forward, outputs a run can write.
+    fn check_run(&self, c: &mut Checker) {
         let r = &self.run;
         c.plain_name(&["run", "name"], &r.name, true);
         c.finite_nonneg(&["run", "start_time"], r.start_time);
@@ -257,7 +264,11 @@ impl Scenario {
                 .replace("  ", " "),
             );
         }
-        let k = &self.coupling;
+    }
+
+    /// `[coupling]`: a window that fits the run, sub-steps that divide.
+    fn check_coupling(&self, c: &mut Checker) {
+        let (r, k) = (&self.run, &self.coupling);
         c.positive(&["coupling", "window"], k.window, "s");
         if k.window > 0.0 && (r.end_time - r.start_time) / k.window > MAX_WINDOWS {
             c.problem(&["coupling", "window"], format!(
@@ -289,6 +300,11 @@ impl Scenario {
             );
         }
         c.positive(&["coupling", "timeout"], k.timeout, "s");
+    }
+
+    /// `[participants]` and the tables beside it: each table a listed
+    /// participant's, each participant with a program and its table.
+    fn check_participants(&self, c: &mut Checker) {
         if self.participants.names().is_empty() {
             c.problem(
                 &["participants"],

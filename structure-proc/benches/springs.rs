@@ -72,13 +72,13 @@ fn step(c: &mut Criterion) {
     let mut g = c.benchmark_group("step");
     g.sample_size(30);
     let mut m = spring_cloth(100);
-    m.dt = 1e-5;
+    let dt = 1e-5;
     g.throughput(Throughput::Elements(m.springs.len() as u64));
     for threads in [1, 2] {
         let p = pool(threads);
         let mut scheme = integrator(scheme_of(Scheme::EulerCromer));
         g.bench_function(format!("{threads}t/cloth-100x100"), |b| {
-            p.install(|| b.iter(|| m.step(scheme.as_mut(), &Loads::default()).unwrap()))
+            p.install(|| b.iter(|| m.step(scheme.as_mut(), &Loads::default(), dt).unwrap()))
         });
     }
     g.finish();
@@ -103,7 +103,7 @@ fn implicit_vs_explicit(c: &mut Criterion) {
     // Start from a cloth already falling, 0.05 s into the scene.
     let mut be = integrator(section.scheme());
     for _ in 0..25 {
-        m.step(be.as_mut(), &Loads::default()).unwrap();
+        m.step(be.as_mut(), &Loads::default(), window).unwrap();
     }
     // Velocity Verlet is stable for ω·h < 2.
     let substeps = (window * omega_max(&m) / 2.0).ceil() as usize;
@@ -114,21 +114,18 @@ fn implicit_vs_explicit(c: &mut Criterion) {
     g.bench_function("backward-euler/1-step", |b| {
         b.iter_batched(
             || m.clone(),
-            |mut m| m.step(be.as_mut(), &Loads::default()).unwrap(),
+            |mut m| m.step(be.as_mut(), &Loads::default(), window).unwrap(),
             BatchSize::LargeInput,
         )
     });
     let mut vv = integrator(scheme_of(Scheme::VelocityVerlet));
     g.bench_function(format!("velocity-verlet/{substeps}-steps"), |b| {
         b.iter_batched(
-            || {
-                let mut m = m.clone();
-                m.dt = window / substeps as f64;
-                m
-            },
+            || m.clone(),
             |mut m| {
                 for _ in 0..substeps {
-                    m.step(vv.as_mut(), &Loads::default()).unwrap();
+                    m.step(vv.as_mut(), &Loads::default(), window / substeps as f64)
+                        .unwrap();
                 }
                 m
             },

@@ -6,6 +6,7 @@ use crate::forces::damping::{Damper, Law};
 use crate::forces::delingette::{lame, TriangleSprings};
 use crate::lines::add_line;
 use crate::model::{Attachment, Model, NodeKind, Spring};
+use crate::network::Network;
 use crate::parachute::circular_canopy;
 use crate::rectangle::{rectangle, Edge};
 use std::collections::BTreeSet;
@@ -22,7 +23,7 @@ pub fn build_model(
     rigid: Option<&RigidSection>,
     dt: f64,
 ) -> Result<Model, MeshError> {
-    let mut m = Model {
+    let net = Network {
         damping: match s.damping {
             Damping::None => None,
             Damping::RelativeVelocity => Some(Law::RelativeVelocity),
@@ -30,7 +31,10 @@ pub fn build_model(
         },
         gravity: s.gravity,
         porous: s.porous.as_ref().map(|l| porous::Porous::new(&l.params())),
-        dt,
+        ..Default::default()
+    };
+    let mut m = Model {
+        net,
         ..Default::default()
     };
     if let Some(a) = &s.annulus {
@@ -175,23 +179,38 @@ fn add_parachute(
     }
     m.vent = std::mem::take(&mut mesh.vent);
     m.canopy_height = z;
+    let hub = add_confluence(m, p, confluence, body.is_some());
+    add_suspension_lines(m, p, &mesh.skirt, hub);
+    Ok(())
+}
+
+/// The confluence node where the lines meet: attached to the body, or a
+/// mass point of the payload's mass. Returns its node.
+fn add_confluence(m: &mut Model, p: &Parachute, at: [f64; 3], on_body: bool) -> usize {
     let hub = m.nodes();
-    match body {
-        Some(_) => {
-            push_node(m, confluence, NodeKind::Attached(m.attachments.len()));
+    match on_body {
+        true => {
+            push_node(m, at, NodeKind::Attached(m.attachments.len()));
             m.attachments.push(Attachment {
                 node: hub,
-                x0: confluence,
+                x0: at,
                 ..Default::default()
             });
         }
-        None => {
-            push_node(m, confluence, NodeKind::Free);
+        false => {
+            push_node(m, at, NodeKind::Free);
             m.mass[hub] = p.payload_mass.unwrap_or(0.0);
         }
     }
     m.points.push(("confluence".into(), hub));
-    for (index, &skirt) in mesh.skirt.iter().enumerate() {
+    hub
+}
+
+/// A suspension line from each skirt node to the confluence `hub`, with its
+/// length change and break rule (dissertation §4.2.3).
+fn add_suspension_lines(m: &mut Model, p: &Parachute, skirt: &[usize], hub: usize) {
+    let g = p.geometry();
+    for (index, &skirt) in skirt.iter().enumerate() {
         let change: f64 = p
             .line_changes
             .iter()
@@ -199,7 +218,7 @@ fn add_parachute(
             .map(|c| c.rest_length_change)
             .sum();
         let mut line = add_line(
-            m,
+            (&mut m.x, &mut m.v, &mut m.net),
             skirt,
             hub,
             p.line_segments as usize,
@@ -217,7 +236,6 @@ fn add_parachute(
         }
         m.lines.push(line);
     }
-    Ok(())
 }
 
 /// A rectangular cloth with the chosen edges or corners held, and optional

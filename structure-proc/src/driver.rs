@@ -24,9 +24,9 @@ pub trait Stepper {
     /// The method's name, for messages.
     fn name(&self) -> &str;
 
-    /// Advance `m` by `m.dt` under `loads`: positions, velocities, the
+    /// Advance `m` by `dt` under `loads`: positions, velocities, the
     /// attachment impulses and `m.time` (see [`Model::finish_step`]).
-    fn step(&mut self, m: &mut Model, loads: &Loads) -> Result<(), StepError>;
+    fn step(&mut self, m: &mut Model, loads: &Loads, dt: f64) -> Result<(), StepError>;
 
     /// Whether the method is the scenario's `[structure] integrator`, whose
     /// stability interval the coupler's estimate assumes. Other methods
@@ -57,8 +57,8 @@ impl Stepper for Scheme {
         self.name
     }
 
-    fn step(&mut self, m: &mut Model, loads: &Loads) -> Result<(), StepError> {
-        m.step(self.integrator.as_mut(), loads)
+    fn step(&mut self, m: &mut Model, loads: &Loads, dt: f64) -> Result<(), StepError> {
+        m.step(self.integrator.as_mut(), loads, dt)
     }
 
     fn is_scenario_integrator(&self) -> bool {
@@ -299,24 +299,27 @@ impl<S: Stepper> Driven<S> {
         let loads = Loads {
             pressure: self.pressure.as_deref().unwrap_or(&[]),
         };
-        m.dt = step.dt / step.substeps as f64;
-        m.time = step.time;
+        // The step's inputs: its sub-step h, and the time at each sub-step's
+        // end (summed as the sub-steps go, for line breaks).
+        let h = step.dt / step.substeps as f64;
+        let mut time = step.time;
         self.substeps += step.substeps as u64;
         for k in 0..step.substeps {
             if let Some(o) = &mut self.obstacles {
                 o.begin_step(&m.x);
             }
-            if let Err(e) = self.stepper.step(m, &loads) {
-                let t = step.time + k as f64 * m.dt;
+            if let Err(e) = self.stepper.step(m, &loads, h) {
+                let t = step.time + k as f64 * h;
                 return Some(format!(
                     "{} failed at t = {t:.6e} s: {e}",
                     self.stepper.name()
                 ));
             }
             if let Some(o) = &mut self.obstacles {
-                o.resolve(&mut m.x, &mut m.v, &m.inv_mass, m.dt);
+                o.resolve(&mut m.x, &mut m.v, &m.net.inv_mass, h);
             }
-            for event in m.break_lines() {
+            time += h;
+            for event in m.break_lines(time) {
                 eprintln!("{event}");
             }
         }

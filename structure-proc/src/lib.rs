@@ -19,6 +19,7 @@ pub mod forces;
 pub mod integrators;
 pub mod lines;
 pub mod model;
+pub mod network;
 pub mod output;
 pub mod parachute;
 pub mod rectangle;

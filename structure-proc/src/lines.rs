@@ -2,7 +2,7 @@
 //! the confluence, each with a rest-length change and a break rule of its own
 //! (dissertation §4.2.3: uneven and breaking lines).
 
-use crate::model::{Model, NodeKind, Spring};
+use crate::network::{Network, NodeKind, Spring};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Line {
@@ -21,7 +21,7 @@ pub struct Line {
 /// is lumped to its nodes, half a segment to each end node.
 #[allow(clippy::too_many_arguments)]
 pub fn add_line(
-    m: &mut Model,
+    (x, v, net): (&mut Vec<f64>, &mut Vec<f64>, &mut Network),
     from: usize,
     to: usize,
     segments: usize,
@@ -32,29 +32,29 @@ pub fn add_line(
     let seg_rest = rest / segments as f64;
     let seg_mass = density * rest / segments as f64;
     let (a, b) = (
-        m.x[3 * from..3 * from + 3].to_vec(),
-        m.x[3 * to..3 * to + 3].to_vec(),
+        x[3 * from..3 * from + 3].to_vec(),
+        x[3 * to..3 * to + 3].to_vec(),
     );
     let mut nodes = vec![from];
     for s in 1..segments {
         let f = s as f64 / segments as f64;
-        let n = m.nodes();
-        m.x.extend((0..3).map(|c| a[c] + f * (b[c] - a[c])));
-        m.v.extend([0.0; 3]);
-        m.mass.push(seg_mass);
-        m.kind.push(NodeKind::Free);
+        let n = net.nodes();
+        x.extend((0..3).map(|c| a[c] + f * (b[c] - a[c])));
+        v.extend([0.0; 3]);
+        net.mass.push(seg_mass);
+        net.kind.push(NodeKind::Free);
         nodes.push(n);
     }
     nodes.push(to);
     for end in [from, to] {
-        if m.kind[end] == NodeKind::Free {
-            m.mass[end] += 0.5 * seg_mass;
+        if net.kind[end] == NodeKind::Free {
+            net.mass[end] += 0.5 * seg_mass;
         }
     }
     let springs = nodes
         .windows(2)
         .map(|w| {
-            m.springs.push(Spring {
+            net.springs.push(Spring {
                 i: w[0],
                 j: w[1],
                 k: ea / seg_rest,
@@ -62,7 +62,7 @@ pub fn add_line(
                 tension_only: true,
                 eps: 0.0,
             });
-            m.springs.len() - 1
+            net.springs.len() - 1
         })
         .collect();
     Line {
@@ -73,38 +73,36 @@ pub fn add_line(
     }
 }
 
-impl Model {
-    /// Break the lines whose time has come or whose tension is too high: the
-    /// segment at the skirt stops carrying force. Returns a message per break.
-    pub fn break_lines(&mut self) -> Vec<String> {
-        let mut events = Vec::new();
-        for (index, line) in self.lines.iter_mut().enumerate() {
-            if line.broken || (line.break_time.is_none() && line.break_tension.is_none()) {
-                continue;
-            }
-            let tension = line
-                .springs
-                .iter()
-                .map(|&s| self.springs[s].tension(&self.x))
-                .fold(0.0, f64::max);
-            let due = line.break_time.is_some_and(|t| self.time >= t)
-                || line.break_tension.is_some_and(|t| tension > t);
-            if due {
-                line.broken = true;
-                let top = line.springs[0];
-                self.springs[top].k = 0.0;
-                if let Some(d) = self.dampers.get_mut(top) {
-                    d.c = 0.0;
-                }
-                events.push(format!(
-                    "line {index} broke at t = {:.6} s with tension {tension:.3} N",
-                    self.time
-                ));
-            }
+/// Break the `lines` of `net` whose time has come at `time` or whose
+/// tension at `x` is too high: the segment at the skirt stops carrying
+/// force. Returns a message per break.
+pub fn break_lines(lines: &mut [Line], net: &mut Network, x: &[f64], time: f64) -> Vec<String> {
+    let mut events = Vec::new();
+    for (index, line) in lines.iter_mut().enumerate() {
+        if line.broken || (line.break_time.is_none() && line.break_tension.is_none()) {
+            continue;
         }
-        if !events.is_empty() {
-            self.prepare();
+        let tension = line
+            .springs
+            .iter()
+            .map(|&s| net.springs[s].tension(x))
+            .fold(0.0, f64::max);
+        let due = line.break_time.is_some_and(|t| time >= t)
+            || line.break_tension.is_some_and(|t| tension > t);
+        if due {
+            line.broken = true;
+            let top = line.springs[0];
+            net.springs[top].k = 0.0;
+            if let Some(d) = net.dampers.get_mut(top) {
+                d.c = 0.0;
+            }
+            events.push(format!(
+                "line {index} broke at t = {time:.6} s with tension {tension:.3} N"
+            ));
         }
-        events
     }
+    if !events.is_empty() {
+        net.prepare();
+    }
+    events
 }

@@ -1,21 +1,13 @@
-//! The spring-mass model: nodes, springs, canopy triangles, attachments.
+//! The spring-mass model: the state a step moves (positions, velocities),
+//! the [`Network`] it reads, and what ties it to the other processes: the
+//! attachment points on rigid bodies, the suspension lines that can break,
+//! the named points and the vent the monitors report.
 
-use crate::forces::assembly::{Assembly, Scratch};
-use crate::forces::damping::{Damper, Law};
-use crate::forces::delingette::TriangleSprings;
-pub use crate::forces::spring::Spring;
 use crate::forces::{Dynamics, Loads};
 use crate::integrators::{Integrator, StepError};
+use crate::lines::Line;
+pub use crate::network::{Network, NodeKind, Spring};
 use crate::system::System;
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum NodeKind {
-    Free,
-    /// Held in place (Dirichlet condition, e.g. the canopy rim of thesis §2.2).
-    Fixed,
-    /// Moved by a rigid body; the index is into [`Model::attachments`].
-    Attached(usize),
-}
 
 /// An attachment point on a rigid body, prescribed over one impulse sub-step as
 /// x(τ) = x0 + v0·τ, and the impulse the structure gives back.
@@ -36,54 +28,35 @@ pub struct Model {
     pub x: Vec<f64>,
     /// Velocities [m/s], 3 per node.
     pub v: Vec<f64>,
-    /// Lumped masses [kg]; zero for fixed and attached nodes.
-    pub mass: Vec<f64>,
-    pub kind: Vec<NodeKind>,
-    pub springs: Vec<Spring>,
-    /// Delingette's triangular springs of a membrane fabric.
-    pub membrane: Vec<TriangleSprings>,
-    /// Dampers along springs and triangle edges, and the law they follow (None:
-    /// undamped). When damped, `dampers[i]` belongs to `springs[i]`; the membrane
-    /// edges' dampers follow (a broken line silences both).
-    pub dampers: Vec<Damper>,
-    pub damping: Option<Law>,
-    /// Canopy triangles (nodes `0..canopy_nodes`), counter-clockwise seen along +n.
-    pub triangles: Vec<[usize; 3]>,
-    /// The canopy occupies nodes `0..canopy_nodes`; strings follow.
-    pub canopy_nodes: usize,
+    /// What the step reads: masses, elements, gravity (also read through
+    /// the model, `m.springs`).
+    pub net: Network,
     /// Canopy nodes on the inner (vent) edge, for the centre deflection.
     pub vent: Vec<usize>,
     /// Height of the undeformed canopy plane [m].
     pub canopy_height: f64,
     pub attachments: Vec<Attachment>,
     /// Suspension lines of a parachute, for uneven lengths and breaks.
-    pub lines: Vec<crate::lines::Line>,
-    /// Simulated time [s], advanced by [`Model::step`].
-    pub time: f64,
+    pub lines: Vec<Line>,
     /// Named points of a hand-built network, with their node, for the monitors.
     pub points: Vec<(String, usize)>,
-    pub gravity: [f64; 3],
-    /// The Darcy–Forchheimer load of a free stream through the canopy
-    /// triangles (thesis eqs. 6–10), when the structure applies it itself.
-    pub porous: Option<porous::Porous>,
-    /// Structure time step Δt_s [s] of the current step (the last window may be shorter).
-    pub dt: f64,
-    /// 1/m for free nodes, 0 for fixed and attached ones; set by [`Model::prepare`].
-    pub inv_mass: Vec<f64>,
-    /// Stiffness between node pairs, for Kang's method; set by [`Model::prepare`].
-    pub couplings: Vec<(usize, usize, f64)>,
-    /// Which slots each node sums in the force, for the elastic and viscous
-    /// elements and for the pressure triangles; set by [`Model::prepare`].
-    pub assembly: (Assembly, Assembly),
-    /// The slot buffer of the force evaluations, reused from step to step.
-    pub scratch: Scratch,
+}
+
+impl std::ops::Deref for Model {
+    type Target = Network;
+
+    fn deref(&self) -> &Network {
+        &self.net
+    }
+}
+
+impl std::ops::DerefMut for Model {
+    fn deref_mut(&mut self) -> &mut Network {
+        &mut self.net
+    }
 }
 
 impl Model {
-    pub fn nodes(&self) -> usize {
-        self.mass.len()
-    }
-
     /// Kinetic energy ½ Σ m v² [J].
     pub fn kinetic_energy(&self) -> f64 {
         (0..self.nodes())
@@ -104,60 +77,51 @@ impl Model {
 
     /// Elastic energy of springs and membrane plus gravitational energy of the masses [J].
     pub fn potential_energy(&self) -> f64 {
-        crate::forces::elastic_energy(self, &self.x) + crate::forces::gravity_energy(self, &self.x)
+        crate::forces::elastic_energy(&self.net, &self.x)
+            + crate::forces::gravity_energy(&self.net, &self.x)
     }
 
-    /// Derive what the integrators read from the nodes and elements: the
-    /// inverse masses, the stiffness couplings and the force assembly. Call after building or
-    /// changing nodes and elements.
-    pub fn prepare(&mut self) {
-        self.inv_mass = (0..self.nodes())
-            .map(|n| match self.kind[n] {
-                NodeKind::Free if self.mass[n] > 0.0 => 1.0 / self.mass[n],
-                _ => 0.0,
-            })
-            .collect();
-        self.couplings = self.springs.iter().map(|s| (s.i, s.j, s.k)).collect();
-        for t in &self.membrane {
-            self.couplings.extend(t.edge_stiffness());
-        }
-        self.assembly = crate::forces::assembly(self);
-    }
-
-    /// Advance by one step of `self.dt` with `integrator`: attached nodes follow
-    /// their body and collect the impulse the step gave them.
+    /// Advance by one step of `dt` under `loads` with `integrator`: attached
+    /// nodes follow their body and collect the impulse the step gave them.
     pub fn step(
         &mut self,
         integrator: &mut dyn Integrator,
         loads: &Loads,
+        dt: f64,
     ) -> Result<(), StepError> {
-        let mut x = std::mem::take(&mut self.x);
-        let mut v = std::mem::take(&mut self.v);
-        let result = integrator.step(&Dynamics { model: self, loads }, self.dt, &mut x, &mut v);
-        self.x = x;
-        self.v = v;
+        let net = &self.net;
+        let result = integrator.step(&Dynamics { net, loads }, dt, &mut self.x, &mut self.v);
         result?;
-        self.finish_step(integrator.reaction());
+        self.finish_step(integrator.reaction(), dt);
         Ok(())
     }
 
-    /// End a step of any method: the attachments collect the impulse
+    /// End a step of `dt` of any method: the attachments collect the impulse
     /// `reaction` (3 per node, read at the attached nodes) and move on with
-    /// their body, and the time advances by `self.dt`.
-    pub fn finish_step(&mut self, reaction: &[f64]) {
+    /// their body.
+    pub fn finish_step(&mut self, reaction: &[f64], dt: f64) {
         for a in &mut self.attachments {
             for c in 0..3 {
                 a.impulse[c] += reaction[3 * a.node + c];
             }
-            a.tau += self.dt;
+            a.tau += dt;
         }
         self.place_attached();
-        self.time += self.dt;
+    }
+
+    /// Break the lines whose time has come at `time` or whose tension is too
+    /// high ([`crate::lines::break_lines`]); a message per break.
+    pub fn break_lines(&mut self, time: f64) -> Vec<String> {
+        crate::lines::break_lines(&mut self.lines, &mut self.net, &self.x, time)
     }
 
     /// The total force at the current state, as the integrators see it.
     pub fn force(&self, loads: &Loads, f: &mut [f64]) {
-        Dynamics { model: self, loads }.force(&self.x, &self.v, f);
+        Dynamics {
+            net: &self.net,
+            loads,
+        }
+        .force(&self.x, &self.v, f);
     }
 
     /// Set the attachment points at the start of an impulse sub-step

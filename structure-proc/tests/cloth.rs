@@ -29,7 +29,7 @@ fn hanging_cloth_settles_with_its_weight_on_the_corners() {
     let mut m = build_model(section, None, dt).unwrap();
     let mut stepper = integrator(section.scheme());
     for _ in 0..250 {
-        m.step(stepper.as_mut(), &Loads::default()).unwrap();
+        m.step(stepper.as_mut(), &Loads::default(), dt).unwrap();
     }
     assert!(
         m.kinetic_energy() < 1e-12,
@@ -63,11 +63,12 @@ fn hanging_cloth_settles_with_its_weight_on_the_corners() {
 #[test]
 fn parallel_force_is_balanced_and_independent_of_the_thread_count() {
     let section = &cloth_scene(60);
-    let mut m = build_model(section, None, 2e-3).unwrap();
+    let dt = 2e-3;
+    let mut m = build_model(section, None, dt).unwrap();
     assert!(m.springs.len() + 3 * m.membrane.len() > 4 * structure_proc::forces::assembly::GRAIN);
     let mut stepper = integrator(section.scheme());
     for _ in 0..5 {
-        m.step(stepper.as_mut(), &Loads::default()).unwrap();
+        m.step(stepper.as_mut(), &Loads::default(), dt).unwrap();
     }
     m.gravity = [0.0; 3];
     let force_on = |threads: usize| {

@@ -53,9 +53,11 @@ fn fall(s: &structure_section::StructureSection, t_end: f64) -> Model {
     let dt = 1e-4;
     let mut m = build_model(s, None, dt).unwrap();
     let mut stepper = integrator(s.scheme());
-    while m.time < t_end - 0.5 * dt {
-        m.step(stepper.as_mut(), &Loads::default()).unwrap();
-        m.break_lines();
+    let mut time = 0.0;
+    while time < t_end - 0.5 * dt {
+        m.step(stepper.as_mut(), &Loads::default(), dt).unwrap();
+        time += dt;
+        m.break_lines(time);
     }
     m
 }
@@ -105,9 +107,11 @@ fn lines_break_above_their_tension() {
     }
     m.prepare();
     let mut stepper = integrator(s.scheme());
+    let mut time = 0.0;
     for _ in 0..3000 {
-        m.step(stepper.as_mut(), &Loads::default()).unwrap();
-        m.break_lines();
+        m.step(stepper.as_mut(), &Loads::default(), dt).unwrap();
+        time += dt;
+        m.break_lines(time);
     }
     assert!(
         m.lines[5].broken,

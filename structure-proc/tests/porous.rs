@@ -64,10 +64,9 @@ fn a_flat_sheet_falls_at_the_ergun_terminal_speed() {
             law.thickness * law.b * law.porosity.powi(2),
         );
         let terminal = (-lin + (lin * lin + 4.0 * quad * sigma * g).sqrt()) / (2.0 * quad);
-        m.dt = dt;
         let mut stepper = integrator(s.structure.scheme());
         for _ in 0..steps {
-            m.step(stepper.as_mut(), &Loads::default()).unwrap();
+            m.step(stepper.as_mut(), &Loads::default(), dt).unwrap();
         }
         let n = m.nodes();
         let speed = -(0..n).map(|k| m.v[3 * k + 2]).sum::<f64>() / n as f64;
@@ -95,7 +94,7 @@ fn porous_damping_matches_finite_differences_of_the_force() {
     }
     let loads = Loads::default();
     let sys = Dynamics {
-        model: &m,
+        net: &m.net,
         loads: &loads,
     };
     let p: Vec<f64> = (0..m.v.len())

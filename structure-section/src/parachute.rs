@@ -188,146 +188,170 @@ impl Parachute {
 
     pub fn check(&self, c: &mut Checker, has_body: impl Fn(&str) -> Option<String>) {
         c.within("parachute", None, |c| {
-            if self.model == ParachuteModel::Custom
-                && (self.nominal_diameter.is_none()
-                    || self.gores.is_none()
-                    || self.line_length.is_none())
-            {
-                c.problem(
-                    &["model"],
-                    "model = \"custom\" needs nominal_diameter, gores and line_length".into(),
-                );
-            }
-            let g = self.geometry();
-            c.positive(&["nominal_diameter"], g.diameter, "m");
-            if !(3..=1000).contains(&g.gores) {
+            self.check_geometry(c);
+            self.check_elements(c);
+            self.check_payload(c, has_body);
+            self.check_lines(c);
+        });
+    }
+
+    /// The canopy's shape: model, diameter, gores, vent, lines' reach.
+    fn check_geometry(&self, c: &mut Checker) {
+        if self.model == ParachuteModel::Custom
+            && (self.nominal_diameter.is_none()
+                || self.gores.is_none()
+                || self.line_length.is_none())
+        {
+            c.problem(
+                &["model"],
+                "model = \"custom\" needs nominal_diameter, gores and line_length".into(),
+            );
+        }
+        let g = self.geometry();
+        c.positive(&["nominal_diameter"], g.diameter, "m");
+        if !(3..=1000).contains(&g.gores) {
+            c.problem(
+                &["gores"],
+                format!("gores = {} must lie in 3..=1000", g.gores),
+            );
+        }
+        c.finite_nonneg(&["vent_diameter"], g.vent);
+        if g.vent >= 0.5 * g.diameter {
+            c.problem(
+                &["vent_diameter"],
+                format!(
+                    "vent_diameter = {} m must be under half the diameter",
+                    g.vent
+                ),
+            );
+        }
+        c.positive(&["line_length"], g.line_length, "m");
+        if g.line_length <= g.skirt_radius() {
+            c.problem(
+                &["line_length"],
+                format!(
+                    "line_length = {} m cannot reach the axis from a skirt of radius {} m",
+                    g.line_length,
+                    g.skirt_radius()
+                ),
+            );
+        }
+        if g.shape == CanopyShape::Cross {
+            let per_arm = g.gores / 4;
+            if g.gores % 4 != 0 || per_arm < 2 || per_arm > self.resolution + 1 {
                 c.problem(
                     &["gores"],
-                    format!("gores = {} must lie in 3..=1000", g.gores),
-                );
-            }
-            c.finite_nonneg(&["vent_diameter"], g.vent);
-            if g.vent >= 0.5 * g.diameter {
-                c.problem(
-                    &["vent_diameter"],
                     format!(
-                        "vent_diameter = {} m must be under half the diameter",
-                        g.vent
+                        "a cross canopy needs lines in fours, 2 to resolution + 1 = {} per arm end; gores = {} gives {}",
+                        self.resolution + 1,
+                        g.gores,
+                        g.gores as f64 / 4.0
                     ),
                 );
             }
-            c.positive(&["line_length"], g.line_length, "m");
-            if g.line_length <= g.skirt_radius() {
+            if g.vent != 0.0 {
+                c.problem(&["vent_diameter"], "a cross canopy has no vent".into());
+            }
+            if self.seam_stiffness.is_some() {
                 c.problem(
-                    &["line_length"],
-                    format!(
-                        "line_length = {} m cannot reach the axis from a skirt of radius {} m",
-                        g.line_length,
-                        g.skirt_radius()
-                    ),
+                    &["seam_stiffness"],
+                    "a cross canopy has no gore seams".into(),
                 );
             }
-            if g.shape == CanopyShape::Cross {
-                let per_arm = g.gores / 4;
-                if g.gores % 4 != 0 || per_arm < 2 || per_arm > self.resolution + 1 {
-                    c.problem(
-                        &["gores"],
-                        format!(
-                            "a cross canopy needs lines in fours, 2 to resolution + 1 = {} per arm end; gores = {} gives {}",
-                            self.resolution + 1,
-                            g.gores,
-                            g.gores as f64 / 4.0
-                        ),
-                    );
-                }
-                if g.vent != 0.0 {
-                    c.problem(&["vent_diameter"], "a cross canopy has no vent".into());
-                }
-                if self.seam_stiffness.is_some() {
-                    c.problem(&["seam_stiffness"], "a cross canopy has no gore seams".into());
-                }
-            }
-            if !(2..=200).contains(&self.resolution) {
-                c.problem(
-                    &["resolution"],
-                    format!("resolution = {} must lie in 2..=200", self.resolution),
-                );
-            }
-            c.finite(&["height"], self.height);
-            self.fabric.check(c);
-            if let Some(k) = self.seam_stiffness {
-                c.positive(&["seam_stiffness"], k, "N/m");
-            }
-            c.positive(&["line_axial_stiffness"], self.line_axial_stiffness, "N");
-            c.positive(&["line_density"], self.line_density, "kg/m");
-            if !(1..=1000).contains(&self.line_segments) {
-                c.problem(
-                    &["line_segments"],
-                    format!(
-                        "line_segments = {} must lie in 1..=1000",
-                        self.line_segments
-                    ),
-                );
-            }
-            match (&self.payload_mass, &self.body) {
-                (Some(m), None) => {
-                    c.positive(&["payload_mass"], *m, "kg");
-                    if self.body_point != [0.0; 3] {
-                        c.problem(
-                            &["body_point"],
-                            "a mass-point payload has no body: body_point goes with body".into(),
-                        );
-                    }
-                }
-                (None, Some(b)) => {
-                    c.finite3(&["body_point"], self.body_point);
-                    if let Some(msg) = has_body(b) {
-                        c.problem(&["body"], msg);
-                    }
-                }
-                _ => c.problem(
-                    &["payload_mass"],
-                    "give exactly one of payload_mass (a mass point) or body (a rigid body)".into(),
+        }
+    }
+
+    /// Resolution, fabric, seams and lines' material.
+    fn check_elements(&self, c: &mut Checker) {
+        if !(2..=200).contains(&self.resolution) {
+            c.problem(
+                &["resolution"],
+                format!("resolution = {} must lie in 2..=200", self.resolution),
+            );
+        }
+        c.finite(&["height"], self.height);
+        self.fabric.check(c);
+        if let Some(k) = self.seam_stiffness {
+            c.positive(&["seam_stiffness"], k, "N/m");
+        }
+        c.positive(&["line_axial_stiffness"], self.line_axial_stiffness, "N");
+        c.positive(&["line_density"], self.line_density, "kg/m");
+        if !(1..=1000).contains(&self.line_segments) {
+            c.problem(
+                &["line_segments"],
+                format!(
+                    "line_segments = {} must lie in 1..=1000",
+                    self.line_segments
                 ),
-            }
-            let check_lines = |c: &mut Checker, lines: &[u32]| {
-                if let Some(l) = lines.iter().find(|&&l| l >= g.gores) {
+            );
+        }
+    }
+
+    /// One payload: a mass point or a rigid body that exists.
+    fn check_payload(&self, c: &mut Checker, has_body: impl Fn(&str) -> Option<String>) {
+        match (&self.payload_mass, &self.body) {
+            (Some(m), None) => {
+                c.positive(&["payload_mass"], *m, "kg");
+                if self.body_point != [0.0; 3] {
                     c.problem(
-                        &["lines"],
-                        format!(
-                            "line {l} does not exist: there are {} lines (0 to {})",
-                            g.gores,
-                            g.gores.saturating_sub(1)
-                        ),
+                        &["body_point"],
+                        "a mass-point payload has no body: body_point goes with body".into(),
                     );
                 }
-            };
-            for (i, ch) in self.line_changes.iter().enumerate() {
-                c.within("line_changes", Some(i), |c| {
-                    check_lines(c, &ch.lines);
-                    c.finite(&["rest_length_change"], ch.rest_length_change);
-                    if ch.rest_length_change <= -g.line_length {
-                        c.problem(
-                            &["rest_length_change"],
-                            "would leave the line no length".into(),
-                        );
-                    }
-                });
             }
-            for (i, b) in self.line_breaks.iter().enumerate() {
-                c.within("line_breaks", Some(i), |c| {
-                    check_lines(c, &b.lines);
-                    match (b.time, b.tension) {
-                        (Some(t), None) => c.finite_nonneg(&["time"], t),
-                        (None, Some(t)) => c.positive(&["tension"], t, "N"),
-                        _ => c.problem(
-                            &["time"],
-                            "give exactly one of time (s) or tension (N)".into(),
-                        ),
-                    }
-                });
+            (None, Some(b)) => {
+                c.finite3(&["body_point"], self.body_point);
+                if let Some(msg) = has_body(b) {
+                    c.problem(&["body"], msg);
+                }
             }
-        });
+            _ => c.problem(
+                &["payload_mass"],
+                "give exactly one of payload_mass (a mass point) or body (a rigid body)".into(),
+            ),
+        }
+    }
+
+    /// Uneven and breaking lines name lines that exist.
+    fn check_lines(&self, c: &mut Checker) {
+        let g = self.geometry();
+        let check_lines = |c: &mut Checker, lines: &[u32]| {
+            if let Some(l) = lines.iter().find(|&&l| l >= g.gores) {
+                c.problem(
+                    &["lines"],
+                    format!(
+                        "line {l} does not exist: there are {} lines (0 to {})",
+                        g.gores,
+                        g.gores.saturating_sub(1)
+                    ),
+                );
+            }
+        };
+        for (i, ch) in self.line_changes.iter().enumerate() {
+            c.within("line_changes", Some(i), |c| {
+                check_lines(c, &ch.lines);
+                c.finite(&["rest_length_change"], ch.rest_length_change);
+                if ch.rest_length_change <= -g.line_length {
+                    c.problem(
+                        &["rest_length_change"],
+                        "would leave the line no length".into(),
+                    );
+                }
+            });
+        }
+        for (i, b) in self.line_breaks.iter().enumerate() {
+            c.within("line_breaks", Some(i), |c| {
+                check_lines(c, &b.lines);
+                match (b.time, b.tension) {
+                    (Some(t), None) => c.finite_nonneg(&["time"], t),
+                    (None, Some(t)) => c.positive(&["tension"], t, "N"),
+                    _ => c.problem(
+                        &["time"],
+                        "give exactly one of time (s) or tension (N)".into(),
+                    ),
+                }
+            });
+        }
     }
 }
 

@@ -162,6 +162,29 @@ fn distinct(v: impl Iterator<Item = f64>) -> Vec<f64> {
     out
 }
 
+/// The stability map's title and legend.
+fn draw_map_title<B: DrawingBackend>(
+    head: &DrawingArea<B, plotters::coord::Shift>,
+) -> Result<(), Error>
+where
+    B::ErrorType: 'static,
+{
+    head.titled(
+        "Stability on a linear spring chain",
+        (FONT, 22),
+    )?
+    .draw_text(
+        &format!(
+            "green: stable; red: unstable (non-finite, or energy > {} E0 after {} steps); grey: Newton failed; black line: predicted limit y*/w_max; blue dashed: the dissertation w_max h = 0.1; dots: bisected limit",
+            crate::stability::GROWTH,
+            crate::stability::STEPS
+        ),
+        &(FONT, 13).into_text_style(head),
+        (10, 8),
+    )?;
+    Ok(())
+}
+
 /// Half a grid spacing in log, as a factor (1.5 for a single value).
 fn half_step(grid: &[f64]) -> f64 {
     if grid.len() < 2 {
@@ -184,19 +207,7 @@ where
 {
     area.fill(&WHITE)?;
     let (head, body) = area.split_vertically(70);
-    head.titled(
-        "Stability on a linear spring chain",
-        (FONT, 22),
-    )?
-    .draw_text(
-        &format!(
-            "green: stable; red: unstable (non-finite, or energy > {} E0 after {} steps); grey: Newton failed; black line: predicted limit y*/w_max; blue dashed: the dissertation w_max h = 0.1; dots: bisected limit",
-            crate::stability::GROWTH,
-            crate::stability::STEPS
-        ),
-        &(FONT, 13).into_text_style(&head),
-        (10, 8),
-    )?;
+    draw_map_title(&head)?;
     let ks = distinct(cells.iter().map(|c| c.k));
     let dts = distinct(cells.iter().map(|c| c.dt));
     let (fk, fd) = (half_step(&ks), half_step(&dts));

@@ -5,6 +5,7 @@
 
 use crate::elliptic::{complete_k, sn_cn_dn};
 use structure_proc::forces::{elastic_energy, Dynamics, Loads};
+use structure_proc::network::Network;
 use structure_proc::{Model, NodeKind, Spring, System};
 use structure_section::STANDARD_GRAVITY;
 
@@ -249,7 +250,7 @@ impl System for Owned {
 impl Owned {
     fn dynamics(&self, f: impl FnOnce(&Dynamics)) {
         f(&Dynamics {
-            model: &self.0,
+            net: &self.0.net,
             loads: &Loads::default(),
         })
     }
@@ -280,9 +281,12 @@ impl SpringPendulum {
         let mut m = Model {
             x: vec![0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.3, 0.2, 0.0],
             v: vec![0.0; 9],
-            mass: vec![0.0, 0.0, 1.0],
-            kind: vec![NodeKind::Fixed, NodeKind::Fixed, NodeKind::Free],
-            springs: vec![spring(0, 2), spring(1, 2)],
+            net: Network {
+                mass: vec![0.0, 0.0, 1.0],
+                kind: vec![NodeKind::Fixed, NodeKind::Fixed, NodeKind::Free],
+                springs: vec![spring(0, 2), spring(1, 2)],
+                ..Default::default()
+            },
             ..Default::default()
         };
         m.prepare();

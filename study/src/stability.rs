@@ -5,6 +5,7 @@
 
 use crate::accuracy::scheme;
 use crate::reference::{mechanical_energy, Owned};
+use structure_proc::network::Network;
 use structure_proc::stability::{self, Interval};
 use structure_proc::{Model, NodeKind, Spring, System};
 use structure_section::Integrator;
@@ -81,9 +82,12 @@ impl Chain {
         let mut m = Model {
             x,
             v: vec![0.0; 3 * nodes],
-            mass,
-            kind,
-            springs,
+            net: Network {
+                mass,
+                kind,
+                springs,
+                ..Default::default()
+            },
             ..Default::default()
         };
         m.prepare();

@@ -73,12 +73,12 @@ fn transport_changes_no_number() {
             &model.v[..3 * n],
             &mut pressure,
         );
-        model.dt = dt / s.coupling.structure_substeps as f64;
+        let h = dt / s.coupling.structure_substeps as f64;
         for _ in 0..s.coupling.structure_substeps {
             let loads = Loads {
                 pressure: &pressure,
             };
-            model.step(integrator.as_mut(), &loads).unwrap();
+            model.step(integrator.as_mut(), &loads, h).unwrap();
         }
     }
     let written = vtu::read_points(&dir.join("run/vtk/canopy_000001.vtu")).unwrap();

@@ -67,14 +67,16 @@ impl Xpbd {
     /// Gauss–Seidel sweeps over the springs until the largest position
     /// correction is at most `tol` [m]; the last correction if they never get there.
     fn project(&mut self, m: &mut Model, h: f64, tol: f64) -> Result<(), f64> {
+        // The network is read, the positions moved: two borrows of the model.
+        let (net, x) = (&m.net, &mut m.x);
         let mut largest = f64::INFINITY;
         for _ in 0..self.max_sweeps {
             largest = 0.0;
-            for (j, s) in m.springs.iter().enumerate() {
+            for (j, s) in net.springs.iter().enumerate() {
                 if s.k == 0.0 {
                     continue; // broken line
                 }
-                let d = point(&m.x, s.j) - point(&m.x, s.i);
+                let d = point(&*x, s.j) - point(&*x, s.i);
                 let l = d.norm();
                 if l == 0.0 {
                     continue;
@@ -82,15 +84,15 @@ impl Xpbd {
                 let e = d / l;
                 let c = s.stretch(l);
                 let slack = s.tension_only && c == 0.0;
-                let (wi, wj) = (m.inv_mass[s.i], m.inv_mass[s.j]);
+                let (wi, wj) = (net.inv_mass[s.i], net.inv_mass[s.j]);
                 // α̃ = α/h² (eq. 4); γ = α̃ β̃/h with β̃ = h² β (eq. 26).
                 let alpha = 1.0 / (s.k * h * h);
-                let beta = match (m.damping, m.dampers.get(j)) {
+                let beta = match (net.damping, net.dampers.get(j)) {
                     (Some(_), Some(dmp)) if !slack => dmp.c,
                     _ => 0.0,
                 };
                 let gamma = alpha * beta * h;
-                let moved = point(&m.x, s.j) - point(&self.prev, s.j) - point(&m.x, s.i)
+                let moved = point(&*x, s.j) - point(&self.prev, s.j) - point(&*x, s.i)
                     + point(&self.prev, s.i);
                 // Eq. (26), Δλ for one constraint.
                 let mut dl = (-c - alpha * self.lambda[j] - gamma * e.dot(&moved))
@@ -102,7 +104,7 @@ impl Xpbd {
                 self.lambda[j] += dl;
                 for (n, w, sign) in [(s.i, wi, -1.0), (s.j, wj, 1.0)] {
                     for k in 0..3 {
-                        m.x[3 * n + k] += sign * w * e[k] * dl;
+                        x[3 * n + k] += sign * w * e[k] * dl;
                     }
                 }
                 largest = largest.max(dl.abs() * wi.max(wj));
@@ -120,8 +122,7 @@ impl Stepper for Xpbd {
         "xpbd"
     }
 
-    fn step(&mut self, m: &mut Model, loads: &Loads) -> Result<(), StepError> {
-        let h = m.dt;
+    fn step(&mut self, m: &mut Model, loads: &Loads, h: f64) -> Result<(), StepError> {
         let n = m.x.len();
         self.f.resize(n, 0.0);
         external_force(m, loads, &m.x, &m.v, &mut self.f);
@@ -172,7 +173,7 @@ impl Stepper for Xpbd {
                 }
             }
         }
-        m.finish_step(&self.reaction);
+        m.finish_step(&self.reaction, h);
         Ok(())
     }
 }

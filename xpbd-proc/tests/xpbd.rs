@@ -5,6 +5,7 @@
 use structure_proc::driver::Stepper;
 use structure_proc::forces::damping::{Damper, Law};
 use structure_proc::forces::Loads;
+use structure_proc::network::Network;
 use structure_proc::{Model, NodeKind, Spring};
 use xpbd_proc::Xpbd;
 
@@ -16,10 +17,13 @@ fn chain(masses: &[f64], k: f64, c: f64, tension_only: bool) -> Model {
     let mut m = Model {
         x: vec![0.0; 3],
         v: vec![0.0; 3],
-        mass: vec![0.0],
-        kind: vec![NodeKind::Fixed],
-        gravity: [0.0, 0.0, -G],
-        damping: Some(Law::Axial),
+        net: Network {
+            mass: vec![0.0],
+            kind: vec![NodeKind::Fixed],
+            gravity: [0.0, 0.0, -G],
+            damping: Some(Law::Axial),
+            ..Default::default()
+        },
         ..Default::default()
     };
     for (n, &mass) in masses.iter().enumerate() {
@@ -54,10 +58,10 @@ fn hanging_chain_settles_at_hookes_stretch_with_its_weight_on_the_support() {
     let masses = [2.0, 1.0, 0.5];
     let k = 50.0;
     let mut m = chain(&masses, k, 20.0, false);
-    m.dt = 0.2;
+    let dt = 0.2;
     let mut xpbd = Xpbd::new(&m).unwrap();
     for _ in 0..500 {
-        xpbd.step(&mut m, &Loads::default()).unwrap();
+        xpbd.step(&mut m, &Loads::default(), dt).unwrap();
     }
     let mut z_expected = 0.0;
     for n in 0..masses.len() {
@@ -71,7 +75,7 @@ fn hanging_chain_settles_at_hookes_stretch_with_its_weight_on_the_support() {
     }
     // The support receives the whole weight as impulse over the step.
     let weight: f64 = masses.iter().sum::<f64>() * G;
-    let pull = -xpbd.reaction()[2] / m.dt;
+    let pull = -xpbd.reaction()[2] / dt;
     assert!(
         (pull / weight - 1.0).abs() < 1e-9,
         "support carries {pull} N of {weight} N"
@@ -85,11 +89,11 @@ fn slack_string_lets_its_mass_fall_freely() {
     let mut m = chain(&[1.0], 1e4, 10.0, true);
     m.springs[0].rest = 1.5;
     m.prepare();
-    m.dt = 1e-3;
+    let dt = 1e-3;
     let mut xpbd = Xpbd::new(&m).unwrap();
     for step in 1..=200 {
-        xpbd.step(&mut m, &Loads::default()).unwrap();
-        let t = step as f64 * m.dt;
+        xpbd.step(&mut m, &Loads::default(), dt).unwrap();
+        let t = step as f64 * dt;
         // (x − x_prev)/h loses a few digits to round-off; a pull would show at 1e-3.
         assert!((m.v[5] + G * t).abs() < 1e-9, "v = {} at t = {t}", m.v[5]);
         assert_eq!(xpbd.reaction()[2], 0.0);

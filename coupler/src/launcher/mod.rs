@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod checks;
 pub mod coupling;
+pub mod manifest;
 pub mod monitors;
 pub mod programs;
 pub mod progress;

@@ -9,9 +9,9 @@ pub mod delingette;
 pub mod pressure;
 pub mod spring;
 
-use crate::model::Model;
+use crate::network::{Layout, Network};
 use crate::system::System;
-use assembly::{fill, Assembly, Slot};
+use assembly::{fill, Slot};
 pub use pressure::area_normal2;
 
 /// Loads from other processes, held for one step and read in place.
@@ -21,79 +21,23 @@ pub struct Loads<'a> {
     pub pressure: &'a [f64],
 }
 
-/// The model under its loads: what the integrators advance.
+/// The network under its loads: what the integrators advance.
 pub struct Dynamics<'a> {
-    pub model: &'a Model,
+    pub net: &'a Network,
     pub loads: &'a Loads<'a>,
 }
 
 /// Gravitational energy −Σ m g·x [J].
-pub fn gravity_energy(m: &Model, x: &[f64]) -> f64 {
+pub fn gravity_energy(m: &Network, x: &[f64]) -> f64 {
     (0..m.nodes())
         .map(|n| -m.mass[n] * (0..3).map(|c| m.gravity[c] * x[3 * n + c]).sum::<f64>())
         .sum()
 }
 
 /// Elastic energy of springs, strings and triangular springs at `x` [J].
-pub fn elastic_energy(m: &Model, x: &[f64]) -> f64 {
+pub fn elastic_energy(m: &Network, x: &[f64]) -> f64 {
     m.springs.iter().map(|s| s.energy(x)).sum::<f64>()
         + m.membrane.iter().map(|t| t.energy(x)).sum::<f64>()
-}
-
-/// Where each family of elements keeps its slots: springs (one each),
-/// membrane edges (three per triangle), dampers (one each). Ends at `end`.
-/// The pressure triangles have an assembly of their own (one slot per
-/// triangle, shared by its three vertices), summed only when a fluid sends a load.
-struct Layout {
-    membrane: usize,
-    dampers: usize,
-    end: usize,
-}
-
-impl Layout {
-    fn of(m: &Model) -> Layout {
-        let membrane = m.springs.len();
-        let dampers = membrane + 3 * m.membrane.len();
-        Layout {
-            membrane,
-            dampers,
-            end: dampers + m.dampers.len(),
-        }
-    }
-}
-
-/// Which slots every node sums: the elastic and viscous elements, then the
-/// pressure triangles. Built by [`Model::prepare`].
-pub fn assembly(m: &Model) -> (Assembly, Assembly) {
-    let at = Layout::of(m);
-    let pair =
-        |base: usize, k: usize, i: usize, j: usize| [(i, base + k, false), (j, base + k, true)];
-    let elements = Assembly::new(m.nodes(), at.end, || {
-        let springs = m
-            .springs
-            .iter()
-            .enumerate()
-            .flat_map(move |(k, s)| pair(0, k, s.i, s.j));
-        let membrane = m.membrane.iter().enumerate().flat_map(move |(k, t)| {
-            (0..3).flat_map(move |e| {
-                let (a, b) = t.edge(e);
-                pair(at.membrane, 3 * k + e, a, b)
-            })
-        });
-        let dampers = m
-            .dampers
-            .iter()
-            .enumerate()
-            .flat_map(move |(k, d)| pair(at.dampers, k, d.i, d.j));
-        springs.chain(membrane).chain(dampers)
-    });
-    let pressure = Assembly::new(m.nodes(), m.triangles.len(), || {
-        m.triangles
-            .iter()
-            .enumerate()
-            .flat_map(|(k, tri)| tri.map(|n| (n, k, false)))
-    });
-    (elements, pressure)
 }
 
 /// Splits the slot buffer into the families of `at`.
@@ -110,7 +54,7 @@ fn families<'s>(
 /// nodes are accelerated, but every node gets its force: on an attached node it is
 /// what the structure exerts on the rigid body. Elements run in parallel (see
 /// [`assembly`](mod@assembly)); the sum is the same on any number of threads.
-pub fn total_force(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
+pub fn total_force(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
     let at = checked_layout(m);
     m.scratch.with(at.end, |slots| {
         let (springs, membrane, dampers) = families(slots, &at);
@@ -129,7 +73,7 @@ pub fn total_force(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]
 /// the porous law's), at positions `x` and velocities `v`; `f` is
 /// overwritten. For solvers that treat the elastic and viscous terms as
 /// constraints.
-pub fn external_force(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
+pub fn external_force(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
     checked_layout(m);
     for (n, fn_) in f.chunks_exact_mut(3).enumerate() {
         fn_.copy_from_slice(weight(m, n).as_slice());
@@ -138,13 +82,13 @@ pub fn external_force(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f
 }
 
 /// m·g of node n [N].
-fn weight(m: &Model, n: usize) -> Slot {
+fn weight(m: &Network, n: usize) -> Slot {
     Slot::from(m.gravity) * m.mass[n]
 }
 
 /// f ← f + the pressure jump's load: the fluid's when one sends it, plus the
 /// porous law's when the structure applies it (`[structure.porous]`).
-fn add_pressure(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
+fn add_pressure(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
     let fluid = !loads.pressure.is_empty();
     if !fluid && m.porous.is_none() {
         return;
@@ -162,37 +106,37 @@ fn add_pressure(m: &Model, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
     });
 }
 
-/// The slot layout of `m`, checked against the assembly [`Model::prepare`] built.
-fn checked_layout(m: &Model) -> Layout {
+/// The slot layout of `m`, checked against the assembly [`Network::prepare`] built.
+fn checked_layout(m: &Network) -> Layout {
     let at = Layout::of(m);
     let (elements, pressure) = &m.assembly;
     assert!(
         at.end == elements.slots()
             && m.triangles.len() == pressure.slots()
             && m.nodes() == elements.nodes(),
-        "the model changed after Model::prepare: call it again"
+        "the model changed after Network::prepare: call it again"
     );
     at
 }
 
 impl System for Dynamics<'_> {
     fn nodes(&self) -> usize {
-        self.model.nodes()
+        self.net.nodes()
     }
 
     fn inv_mass(&self) -> &[f64] {
-        &self.model.inv_mass
+        &self.net.inv_mass
     }
 
     fn force(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
-        total_force(self.model, self.loads, x, v, f);
+        total_force(self.net, self.loads, x, v, f);
     }
 
     /// The elastic and viscous terms and the porous load's resistance to
     /// motion; gravity is constant and the pressure load's dependence on the
     /// canopy's shape is left to the Newton iterations.
     fn jacobian_product(&self, x: &[f64], v: &[f64], a: f64, b: f64, p: &[f64], out: &mut [f64]) {
-        let m = self.model;
+        let m = self.net;
         let at = checked_layout(m);
         m.scratch.with(at.end, |slots| {
             let (springs, membrane, dampers) = families(slots, &at);
@@ -226,6 +170,6 @@ impl System for Dynamics<'_> {
     }
 
     fn couplings(&self) -> &[(usize, usize, f64)] {
-        &self.model.couplings
+        &self.net.couplings
     }
 }

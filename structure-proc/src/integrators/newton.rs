@@ -78,13 +78,43 @@ impl Newton {
         ] {
             buf.resize(n, 0.0);
         }
-        let inv_mass = sys.inv_mass();
-        // Jacobi preconditioner: 1/(M + w·b·K)_dd, with K's diagonal taken from
-        // the axial stiffness of every coupling along its current direction e,
-        // k·e_c² (geometric and damping terms left out). With M alone, conjugate
-        // gradients need about ω_max·Δt iterations once the stiffness dominates
-        // (ω_max·Δt ≫ 1); per direction, the in-plane stiffness of a flat
-        // membrane does not also weigh on its soft out-of-plane motion.
+        self.precondition(sys, t, a);
+        let tolerance = self.params.tolerance * extent(t.xhat).max(f64::MIN_POSITIVE);
+        let lever = t.b.max(t.g * h);
+        let mut correction = f64::INFINITY;
+        for iteration in 0..=self.params.max_iterations {
+            for d in 0..n {
+                self.x[d] = t.xhat[d] + t.b * a[d];
+                self.v[d] = t.vhat[d] + t.g * a[d];
+            }
+            sys.force(&self.x, &self.v, &mut self.f);
+            if iteration > 0 && correction <= tolerance {
+                return Ok(());
+            }
+            if iteration == self.params.max_iterations {
+                break;
+            }
+            self.residual(sys, t, a)?;
+            correction = lever * self.correct(sys, t, a);
+            if !correction.is_finite() {
+                return Err(StepError::NonFinite);
+            }
+        }
+        Err(StepError::NoConvergence {
+            iterations: self.params.max_iterations,
+            correction,
+        })
+    }
+
+    /// Jacobi preconditioner: 1/(M + w·b·K)_dd, with K's diagonal taken from
+    /// the axial stiffness of every coupling along its current direction e,
+    /// k·e_c² (geometric and damping terms left out). With M alone, conjugate
+    /// gradients need about ω_max·Δt iterations once the stiffness dominates
+    /// (ω_max·Δt ≫ 1); per direction, the in-plane stiffness of a flat
+    /// membrane does not also weigh on its soft out-of-plane motion. Nodes
+    /// the step does not accelerate get a = 0.
+    fn precondition(&mut self, sys: &dyn System, t: &Target, a: &mut [f64]) {
+        let (n, inv_mass) = (a.len(), sys.inv_mass());
         self.diag.clear();
         self.diag.resize(n, 0.0);
         for &(i, j, k) in sys.couplings() {
@@ -109,61 +139,51 @@ impl Newton {
                 a[d] = 0.0;
             }
         }
-        let tolerance = self.params.tolerance * extent(t.xhat).max(f64::MIN_POSITIVE);
-        let lever = t.b.max(t.g * h);
-        let mut correction = f64::INFINITY;
-        for iteration in 0..=self.params.max_iterations {
-            for d in 0..n {
-                self.x[d] = t.xhat[d] + t.b * a[d];
-                self.v[d] = t.vhat[d] + t.g * a[d];
-            }
-            sys.force(&self.x, &self.v, &mut self.f);
-            if iteration > 0 && correction <= tolerance {
-                return Ok(());
-            }
-            if iteration == self.params.max_iterations {
-                break;
-            }
-            for d in 0..n {
-                let w = inv_mass[d / 3];
-                self.rhs[d] = if w == 0.0 {
-                    0.0
-                } else {
-                    t.w * self.f[d] + t.extra.map_or(0.0, |e| e[d]) - a[d] / w
-                };
-            }
-            if self.rhs.iter().any(|r| !r.is_finite()) {
-                return Err(StepError::NonFinite);
-            }
-            let (x, v) = (&self.x, &self.v);
-            let (kb, kg) = (t.w * t.b, t.w * t.g);
-            self.cg.solve(
-                |p, out| {
-                    sys.jacobian_product(x, v, kb, kg, p, out);
-                    for d in 0..n {
-                        let w = inv_mass[d / 3];
-                        out[d] = if w == 0.0 { 0.0 } else { out[d] + p[d] / w };
-                    }
-                },
-                &self.rhs,
-                &self.precond,
-                &mut self.da,
-                self.params.cg_tolerance,
-                self.params.max_cg_iterations,
-            );
-            let mut largest = 0.0f64;
-            for d in 0..n {
-                a[d] += self.da[d];
-                largest = largest.max(self.da[d].abs());
-            }
-            correction = lever * largest;
-            if !correction.is_finite() {
-                return Err(StepError::NonFinite);
-            }
+    }
+
+    /// The Newton residual at the current iterate, w·F + extra − M·a, into
+    /// `rhs` (0 on nodes the step does not accelerate).
+    fn residual(&mut self, sys: &dyn System, t: &Target, a: &[f64]) -> Result<(), StepError> {
+        let inv_mass = sys.inv_mass();
+        for (d, r) in self.rhs.iter_mut().enumerate() {
+            let w = inv_mass[d / 3];
+            *r = if w == 0.0 {
+                0.0
+            } else {
+                t.w * self.f[d] + t.extra.map_or(0.0, |e| e[d]) - a[d] / w
+            };
         }
-        Err(StepError::NoConvergence {
-            iterations: self.params.max_iterations,
-            correction,
-        })
+        if self.rhs.iter().any(|r| !r.is_finite()) {
+            return Err(StepError::NonFinite);
+        }
+        Ok(())
+    }
+
+    /// Solves (M + w·b·K + w·g·C)·Δa = residual by preconditioned conjugate
+    /// gradients, adds Δa to `a`, and returns the largest |Δa|.
+    fn correct(&mut self, sys: &dyn System, t: &Target, a: &mut [f64]) -> f64 {
+        let (n, inv_mass) = (a.len(), sys.inv_mass());
+        let (x, v) = (&self.x, &self.v);
+        let (kb, kg) = (t.w * t.b, t.w * t.g);
+        self.cg.solve(
+            |p, out| {
+                sys.jacobian_product(x, v, kb, kg, p, out);
+                for d in 0..n {
+                    let w = inv_mass[d / 3];
+                    out[d] = if w == 0.0 { 0.0 } else { out[d] + p[d] / w };
+                }
+            },
+            &self.rhs,
+            &self.precond,
+            &mut self.da,
+            self.params.cg_tolerance,
+            self.params.max_cg_iterations,
+        );
+        let mut largest = 0.0f64;
+        for d in 0..n {
+            a[d] += self.da[d];
+            largest = largest.max(self.da[d].abs());
+        }
+        largest
     }
 }

@@ -4,6 +4,7 @@
 use canopy_tests::*;
 
 mod flow_cases;
+mod structure_cases;
 
 struct Case {
     name: &'static str,
@@ -41,13 +42,6 @@ const CASES: &[Case] = &[
         line_of: Some("colour"),
     },
     Case {
-        name: "unknown-body-key",
-        edit: |t| replace(t, "mass = 1.0", "mass = 1.0\nmas = 2.0"),
-        key: Some("rigid.bodies[0].mas"),
-        says: "unknown field `mas`",
-        line_of: Some("mas = 2.0"),
-    },
-    Case {
         name: "wrong-type",
         edit: |t| replace(t, "end_time = 10.0", "end_time = \"ten\""),
         key: Some("run.end_time"),
@@ -67,27 +61,6 @@ const CASES: &[Case] = &[
         key: Some("run"),
         says: "missing field `end_time`",
         line_of: Some("[run]"),
-    },
-    Case {
-        name: "missing-mass",
-        edit: |t| replace(t, "mass = 1.0\n", ""),
-        key: Some("rigid.bodies[0].mass"),
-        says: "a mass point needs its mass",
-        line_of: None,
-    },
-    Case {
-        name: "negative-mass",
-        edit: |t| replace(t, "mass = 1.0", "mass = -1.0"),
-        key: Some("rigid.bodies[0].mass"),
-        says: "must be > 0 kg",
-        line_of: Some("mass = -1.0"),
-    },
-    Case {
-        name: "zero-mass",
-        edit: |t| replace(t, "mass = 1.0", "mass = 0.0"),
-        key: Some("rigid.bodies[0].mass"),
-        says: "must be > 0 kg",
-        line_of: Some("mass = 0.0"),
     },
     Case {
         name: "zero-window",
@@ -191,78 +164,6 @@ const CASES: &[Case] = &[
         line_of: Some("./nothing/here"),
     },
     Case {
-        name: "unknown-integrator",
-        edit: |t| {
-            replace(
-                t,
-                "integrator = \"euler-cromer\"",
-                "integrator = \"leapfrog\"",
-            )
-        },
-        key: Some("structure.integrator"),
-        says: "unknown variant `leapfrog`",
-        line_of: Some("leapfrog"),
-    },
-    Case {
-        name: "unknown-body",
-        edit: |t| replace(t, "body = \"ball\"", "body = \"moon\""),
-        key: Some("structure.strings[0].body"),
-        says: "no rigid body is named `moon`",
-        line_of: Some("moon"),
-    },
-    Case {
-        name: "negative-stiffness",
-        edit: |t| replace(t, "stiffness = 1.0e5", "stiffness = -1.0e5"),
-        key: Some("structure.strings[0].stiffness"),
-        says: "must be > 0 N/m",
-        line_of: Some("stiffness = -1.0e5"),
-    },
-    Case {
-        name: "zero-rest-length",
-        edit: |t| replace(t, "rest_length = 1.0", "rest_length = 0.0"),
-        key: Some("structure.strings[0].rest_length"),
-        says: "must be > 0 m",
-        line_of: Some("rest_length = 0.0"),
-    },
-    Case {
-        name: "negative-damping",
-        edit: |t| replace(t, "linear_damping = 0.0", "linear_damping = -0.1"),
-        key: Some("rigid.bodies[0].linear_damping"),
-        says: "must be ≥ 0",
-        line_of: Some("linear_damping = -0.1"),
-    },
-    Case {
-        name: "duplicate-body",
-        edit: |t| {
-            format!(
-                "{t}\n[[rigid.bodies]]\nname = \"ball\"\nmass = 2.0\nposition = [0.0, 0.0, -2.0]\n"
-            )
-        },
-        key: Some("rigid.bodies[1].name"),
-        says: "used twice",
-        line_of: Some("name = \"ball\"\nmass = 2.0"),
-    },
-    Case {
-        name: "short-vector",
-        edit: |t| {
-            replace(
-                t,
-                "gravity = [0.0, 0.0, -9.81]\n\n[[rigid",
-                "gravity = [0.0, -9.81]\n\n[[rigid",
-            )
-        },
-        key: Some("rigid.gravity"),
-        says: "invalid length 2",
-        line_of: Some("gravity = [0.0, -9.81]"),
-    },
-    Case {
-        name: "section-without-participant",
-        edit: |t| replace(t, "[participants.rigid]\nprogram = \"rigid-proc\"\n", ""),
-        key: Some("rigid"),
-        says: "no participant `rigid` is listed",
-        line_of: Some("[rigid]"),
-    },
-    Case {
         name: "participant-without-section",
         edit: |t| {
             replace(
@@ -281,13 +182,6 @@ const CASES: &[Case] = &[
         key: Some("run.name"),
         says: "must be a non-empty name",
         line_of: Some("name = \"../up\""),
-    },
-    Case {
-        name: "bad-body-name",
-        edit: |t| t.replace("\"ball\"", "\"ball,1\""),
-        key: Some("rigid.bodies[0].name"),
-        says: "must be a non-empty name",
-        line_of: Some("name = \"ball,1\""),
     },
     Case {
         name: "huge-timeout",
@@ -317,170 +211,6 @@ const CASES: &[Case] = &[
         line_of: Some("end_time = = 10.0"),
     },
     Case {
-        name: "viscous-without-coefficient",
-        edit: |t| {
-            replace(
-                t,
-                "integrator = \"euler-cromer\"",
-                "integrator = \"euler-cromer\"\ndamping = \"viscous\"",
-            )
-        },
-        key: Some("structure.damping_coefficient"),
-        says: "needs damping_coefficient",
-        line_of: None,
-    },
-    Case {
-        name: "newmark-gamma-below-half",
-        edit: |t| {
-            replace(
-                t,
-                "integrator = \"euler-cromer\"",
-                "integrator = \"newmark\"\nnewmark = { beta = 0.25, gamma = 0.3 }",
-            )
-        },
-        key: Some("structure.newmark.gamma"),
-        says: "must lie in [0.5, 1]",
-        line_of: Some("gamma = 0.3"),
-    },
-    Case {
-        name: "hht-alpha-out-of-range",
-        edit: |t| {
-            replace(
-                t,
-                "integrator = \"euler-cromer\"",
-                "integrator = \"hht\"\nhht = { alpha = 0.5 }",
-            )
-        },
-        key: Some("structure.hht.alpha"),
-        says: "must lie in [-1/3, 0]",
-        line_of: Some("alpha = 0.5"),
-    },
-    Case {
-        name: "adaptive-tolerance-out-of-range",
-        edit: |t| {
-            replace(
-                t,
-                "integrator = \"euler-cromer\"",
-                "integrator = \"dormand-prince\"\nadaptive = { tolerance = 0.0 }",
-            )
-        },
-        key: Some("structure.adaptive.tolerance"),
-        says: "must lie strictly between 0 and 1",
-        line_of: Some("tolerance = 0.0"),
-    },
-    Case {
-        name: "collision-without-a-shaped-body",
-        edit: |t| format!("{t}\n[structure.collision]\nthickness = 1e-3\n"),
-        key: Some("structure.collision"),
-        says: "no [[rigid.bodies]] entry has a shape",
-        line_of: Some("[structure.collision]"),
-    },
-    Case {
-        name: "collision-thickness-negative",
-        edit: |t| format!("{t}\n[structure.collision]\nthickness = -1e-3\n"),
-        key: Some("structure.collision.thickness"),
-        says: "must be > 0 m",
-        line_of: Some("thickness = -1e-3"),
-    },
-    Case {
-        name: "spring-to-unknown-point",
-        edit: |t| {
-            format!("{t}\n[[structure.points]]\nname = \"p\"\nposition = [0.0, 0.0, 1.0]\nfixed = true\n\n[[structure.springs]]\nends = [\"p\", \"q\"]\nstiffness = 1.0\n")
-        },
-        key: Some("structure.springs[0].ends"),
-        says: "no point is named `q`",
-        line_of: Some("ends = "),
-    },
-    Case {
-        name: "porous-load-without-a-surface",
-        edit: |t| format!("{t}\n{POROUS}"),
-        key: Some("structure.porous"),
-        says: "a porous load needs a canopy surface",
-        line_of: Some("[structure.porous]"),
-    },
-    Case {
-        name: "porous-porosity-out-of-range",
-        edit: |t| {
-            format!(
-                "{t}\n{}",
-                POROUS.replace("porosity = 0.1", "porosity = 1.5")
-            )
-        },
-        key: Some("structure.porous.porosity"),
-        says: "must lie strictly between 0 and 1",
-        line_of: Some("porosity = 1.5"),
-    },
-    Case {
-        name: "porous-load-twice",
-        edit: |t| {
-            let fluid = "[participants.fluid]\nprogram = \"fluid-proc\"\n\n[fluid]\nfree_stream = [0.0, 0.0, 1.0]\nporosity = 0.1\ndiameter = 1e-3\nthickness = 1e-4\n";
-            format!("{t}\n{fluid}\n{POROUS}")
-        },
-        key: Some("structure.porous"),
-        says: "participant `fluid` loads the canopy too",
-        line_of: Some("[structure.porous]"),
-    },
-    Case {
-        name: "missing-mesh",
-        edit: |t| {
-            replace(
-                t,
-                "mass = 1.0\n",
-                "mass = 1.0\nshape = { type = \"mesh\", file = \"nowhere.obj\" }\n",
-            )
-        },
-        key: Some("rigid.bodies[0].shape.file"),
-        says: "nowhere.obj: cannot read the mesh",
-        line_of: Some("shape = "),
-    },
-    Case {
-        name: "mass-and-density",
-        edit: |t| {
-            replace(
-                t,
-                "mass = 1.0\n",
-                "mass = 1.0\ndensity = 7800.0\nshape = { type = \"sphere\", radius = 0.1 }\n",
-            )
-        },
-        key: Some("rigid.bodies[0].mass"),
-        says: "exactly one of mass",
-        line_of: Some("mass = 1.0"),
-    },
-    Case {
-        name: "restitution-above-one",
-        edit: |t| replace(t, "[rigid]\n", "[rigid]\nrestitution = 1.5\n"),
-        key: Some("rigid.restitution"),
-        says: "must lie in [0, 1]",
-        line_of: Some("restitution = 1.5"),
-    },
-    Case {
-        name: "negative-radius",
-        edit: |t| {
-            replace(
-                t,
-                "mass = 1.0\n",
-                "mass = 1.0\nshape = { type = \"sphere\", radius = -0.1 }\n",
-            )
-        },
-        key: Some("rigid.bodies[0].shape.radius"),
-        says: "radius = -0.1 must be > 0 m",
-        line_of: Some("shape = "),
-    },
-    Case {
-        name: "huge-stiffness",
-        edit: |t| replace(t, "stiffness = 1.0e5", "stiffness = 1e308"),
-        key: Some("structure.strings[0].stiffness"),
-        says: "is beyond the 1e30 N/m canopy accepts",
-        line_of: Some("stiffness = 1e308"),
-    },
-    Case {
-        name: "huge-areal-density",
-        edit: |t| replace(t, "[rigid]\n", CLOTH_1E308),
-        key: Some("structure.cloth.fabric.areal_density"),
-        says: "is beyond the 1e30 kg/m² canopy accepts",
-        line_of: Some("areal_density = 1e308"),
-    },
-    Case {
         name: "output-interval-below-the-clock",
         edit: |t| replace(t, "output_interval = 0.05", "output_interval = 1e-17"),
         key: Some("run.output_interval"),
@@ -496,12 +226,6 @@ const CASES: &[Case] = &[
     },
 ];
 
-/// A cloth whose areal density would overflow the arithmetic, put before `[rigid]`.
-const CLOTH_1E308: &str = "[structure.cloth]\nwidth = 1.0\ndepth = 1.0\nnodes_x = 3\nnodes_y = 3\norigin = [0.0, 0.0, 0.0]\n\n[structure.cloth.fabric]\nareal_density = 1e308\nstiffness = 10.0\n\n[rigid]\n";
-
-/// The porous load of `[structure.porous]` (thesis eqs. 6–10), appended to a scenario.
-const POROUS: &str = "[structure.porous]\nfree_stream = [0.0, 0.0, 1.0]\nporosity = 0.1\ndiameter = 1e-3\nthickness = 1e-4\n";
-
 /// 1-based line of the first occurrence of `needle` (which may span lines: its first line counts).
 fn line_of(text: &str, needle: &str) -> usize {
     let at = text
@@ -512,11 +236,15 @@ fn line_of(text: &str, needle: &str) -> usize {
 
 #[test]
 fn every_malformed_scenario_gets_its_own_message_and_exit_code_2() {
-    assert!(CASES.len() + flow_cases::CASES.len() >= 20);
+    assert!(CASES.len() + structure_cases::CASES.len() + flow_cases::CASES.len() >= 20);
     let dir = scratch("malformed");
     let good = std::fs::read_to_string(scenario_path("pendulum")).unwrap();
     let mut failures = Vec::new();
-    for case in CASES.iter().chain(flow_cases::CASES) {
+    for case in CASES
+        .iter()
+        .chain(structure_cases::CASES)
+        .chain(flow_cases::CASES)
+    {
         let text = (case.edit)(&good);
         let path = dir.join(format!("{}.toml", case.name));
         std::fs::write(&path, &text).unwrap();

@@ -1,0 +1,131 @@
+//! The spring-mass network: what a step reads and does not move. The
+//! nodes' masses and kinds, the springs, membrane triangles and dampers, the
+//! canopy's triangles, gravity and the porous load, and what [`Network::prepare`]
+//! derives from them for the integrators and the force assembly. The state
+//! (positions, velocities) and the step's inputs (Δt, time, loads) are apart
+//! (`model.rs`, [`crate::forces::Loads`]), in the manner of Rapier's step functions.
+
+use crate::forces::assembly::{Assembly, Scratch};
+use crate::forces::damping::{Damper, Law};
+use crate::forces::delingette::TriangleSprings;
+pub use crate::forces::spring::Spring;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeKind {
+    Free,
+    /// Held in place (Dirichlet condition, e.g. the canopy rim of thesis §2.2).
+    Fixed,
+    /// Moved by a rigid body; the index is into [`crate::Model::attachments`].
+    Attached(usize),
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct Network {
+    /// Lumped masses [kg]; zero for fixed and attached nodes.
+    pub mass: Vec<f64>,
+    pub kind: Vec<NodeKind>,
+    pub springs: Vec<Spring>,
+    /// Delingette's triangular springs of a membrane fabric.
+    pub membrane: Vec<TriangleSprings>,
+    /// Dampers along springs and triangle edges, and the law they follow (None:
+    /// undamped). When damped, `dampers[i]` belongs to `springs[i]`; the membrane
+    /// edges' dampers follow (a broken line silences both).
+    pub dampers: Vec<Damper>,
+    pub damping: Option<Law>,
+    /// Canopy triangles (nodes `0..canopy_nodes`), counter-clockwise seen along +n.
+    pub triangles: Vec<[usize; 3]>,
+    /// The canopy occupies nodes `0..canopy_nodes`; strings follow.
+    pub canopy_nodes: usize,
+    pub gravity: [f64; 3],
+    /// The Darcy–Forchheimer load of a free stream through the canopy
+    /// triangles (thesis eqs. 6–10), when the structure applies it itself.
+    pub porous: Option<porous::Porous>,
+    /// 1/m for free nodes, 0 for fixed and attached ones; set by [`Network::prepare`].
+    pub inv_mass: Vec<f64>,
+    /// Stiffness between node pairs, for Kang's method; set by [`Network::prepare`].
+    pub couplings: Vec<(usize, usize, f64)>,
+    /// Which slots each node sums in the force, for the elastic and viscous
+    /// elements and for the pressure triangles; set by [`Network::prepare`].
+    pub assembly: (Assembly, Assembly),
+    /// The slot buffer of the force evaluations, reused from step to step.
+    pub scratch: Scratch,
+}
+
+impl Network {
+    pub fn nodes(&self) -> usize {
+        self.mass.len()
+    }
+
+    /// Derive what the integrators read from the nodes and elements: the
+    /// inverse masses, the stiffness couplings and the force assembly. Call after building or
+    /// changing nodes and elements.
+    pub fn prepare(&mut self) {
+        self.inv_mass = (0..self.nodes())
+            .map(|n| match self.kind[n] {
+                NodeKind::Free if self.mass[n] > 0.0 => 1.0 / self.mass[n],
+                _ => 0.0,
+            })
+            .collect();
+        self.couplings = self.springs.iter().map(|s| (s.i, s.j, s.k)).collect();
+        for t in &self.membrane {
+            self.couplings.extend(t.edge_stiffness());
+        }
+        self.assembly = assembly(self);
+    }
+}
+
+/// Where each family of elements keeps its slots: springs (one each),
+/// membrane edges (three per triangle), dampers (one each). Ends at `end`.
+/// The pressure triangles have an assembly of their own (one slot per
+/// triangle, shared by its three vertices), summed only when a fluid sends a load.
+pub(crate) struct Layout {
+    pub membrane: usize,
+    pub dampers: usize,
+    pub end: usize,
+}
+
+impl Layout {
+    pub(crate) fn of(m: &Network) -> Layout {
+        let membrane = m.springs.len();
+        let dampers = membrane + 3 * m.membrane.len();
+        Layout {
+            membrane,
+            dampers,
+            end: dampers + m.dampers.len(),
+        }
+    }
+}
+
+/// Which slots every node sums: the elastic and viscous elements, then the
+/// pressure triangles. Built by [`Network::prepare`].
+fn assembly(m: &Network) -> (Assembly, Assembly) {
+    let at = Layout::of(m);
+    let pair =
+        |base: usize, k: usize, i: usize, j: usize| [(i, base + k, false), (j, base + k, true)];
+    let elements = Assembly::new(m.nodes(), at.end, || {
+        let springs = m
+            .springs
+            .iter()
+            .enumerate()
+            .flat_map(move |(k, s)| pair(0, k, s.i, s.j));
+        let membrane = m.membrane.iter().enumerate().flat_map(move |(k, t)| {
+            (0..3).flat_map(move |e| {
+                let (a, b) = t.edge(e);
+                pair(at.membrane, 3 * k + e, a, b)
+            })
+        });
+        let dampers = m
+            .dampers
+            .iter()
+            .enumerate()
+            .flat_map(move |(k, d)| pair(at.dampers, k, d.i, d.j));
+        springs.chain(membrane).chain(dampers)
+    });
+    let pressure = Assembly::new(m.nodes(), m.triangles.len(), || {
+        m.triangles
+            .iter()
+            .enumerate()
+            .flat_map(|(k, tri)| tri.map(|n| (n, k, false)))
+    });
+    (elements, pressure)
+}
