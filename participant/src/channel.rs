@@ -374,7 +374,7 @@ pub fn cleanup_dead_nodes() -> usize {
 }
 
 /// How long [`cleanup_dead_nodes`] lets iceoryx2 clean.
-pub const CLEANUP_WITHIN: Duration = Duration::from_secs(2);
+pub const CLEANUP_WITHIN: Duration = Duration::from_secs(5);
 
 /// Where iceoryx2 keeps its shared memory (POSIX shm on Linux); its files
 /// start with the config's prefix.
