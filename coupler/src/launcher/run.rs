@@ -3,7 +3,7 @@
 
 use super::coupling::{self, CouplingError, Shared};
 use super::manifest::manifest;
-use super::programs::{self, Program};
+use super::programs::Program;
 use super::progress::Progress;
 use super::supervise::{self, Child, Exit};
 use super::{EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_RUN_FAILED};
@@ -26,17 +26,12 @@ pub(super) enum End {
 }
 
 pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
-    let mut checked = match super::load_checked(scenario_path) {
+    // Checking asks every program, so any first-run build happens here.
+    let checked = match super::load_checked(scenario_path) {
         Ok(c) => c,
         Err(problems) => return super::refuse(&problems),
     };
     super::warn(&checked);
-    for (_, program) in &mut checked.programs {
-        if let Err(e) = programs::ensure_built(program) {
-            eprintln!("error: {}: {e}", scenario_path.display());
-            return EXIT_BAD_INPUT;
-        }
-    }
     // Timing starts after any first-run build of the solvers.
     let started = Instant::now();
     let scenario = checked.scenario.clone();
@@ -125,8 +120,8 @@ fn tell(end: &End, children: &[Child], run_dir: &Path, started: Instant, scenari
     }
 }
 
-/// Make `dir` this run's: it must be new or empty. The resolved scenario is
-/// its first file, created only if it does not exist, so of two runs
+/// Make `dir` this run's: it must be new or empty. The scenario file, as
+/// read, is its first file, created only if it does not exist, so of two runs
 /// started into one directory at once one gets it and the other stops.
 fn claim_run_dir(dir: &Path, scenario: &str) -> Result<PathBuf, String> {
     use std::io::Write;
