@@ -308,6 +308,7 @@ impl Participant {
         };
         let input = &mut self.inputs.list[i];
         let sent = input.accept(&got.value)?;
+        self.clock.stats.reads += 1;
         input.last_wait = waited;
         self.clock.stats.sleeps += got.slept as u64;
         if !got.ready {

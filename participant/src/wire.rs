@@ -74,6 +74,8 @@ pub struct Stats {
     /// Waits that ended asleep on the wake event rather than spinning.
     pub sleeps: u64,
     pub commands: u64,
+    /// Field values read: hand-offs from another participant.
+    pub reads: u64,
     /// Internal sub-steps taken, as counted by the solver.
     pub substeps: u64,
 }

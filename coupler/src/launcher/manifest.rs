@@ -97,6 +97,7 @@ fn coupling_json(o: &coupling::Outcome) -> serde_json::Value {
         "compute_s": sum(|s| s.compute_s),
         "exchange_s": exchange,
         "latency_s": latency,
+        "reads": o.stats.iter().map(|(_, s)| s.reads).sum::<u64>(),
         "exchange_share": (exchange + latency) / o.run_s,
     })
 }
@@ -122,6 +123,7 @@ fn processes_json(children: &[Child], outcome: Option<&coupling::Outcome>) -> se
                 "latency_s": st.map(|s| s.latency_s),
                 "sleeps": st.map(|s| s.sleeps),
                 "commands": st.map(|s| s.commands),
+                "reads": st.map(|s| s.reads),
                 "substeps": st.map(|s| s.substeps),
             })
         })

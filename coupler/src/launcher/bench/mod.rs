@@ -15,8 +15,11 @@
 //!
 //! The scene rows run `coupler run` and read the manifest's
 //! `coupling.exchange_share`: the share of the coupled run's wall time in
-//! which no participant computes.
+//! which no participant computes. Beside it, the floor: the share that the
+//! same number of hand-offs would take if each cost no more than moving
+//! one cache line from core to core ([`floor`]), measured in the same run.
 
+mod floor;
 mod library;
 mod pingpong;
 mod raw;
@@ -63,17 +66,23 @@ pub fn exchange(rounds: usize, scenes: &[PathBuf]) -> i32 {
             return 1;
         }
     }
+    let floor_us = floor::round_trip_us();
+    match floor_us {
+        Some(us) => println!("floor: one cache line from core to core and back (two threads on atomics): {us:.3} µs"),
+        None => println!("floor: not measured (one core)"),
+    }
     if !scenes.is_empty() {
         println!();
         println!("exchange share of a coupled run: time inside the library's calls and between a value's sending and its");
-        println!("waiting reader seeing it, summed over participants, against the coupled run's wall time (from start to finish)");
+        println!("waiting reader seeing it, summed over participants, against the coupled run's wall time (from start to finish);");
+        println!("floor: the share its hand-offs (values read) would take at half the cache-line round trip each");
         println!(
-            "{:<34} {:>8} {:>8} {:>10} {:>10} {:>10} {:>7}",
-            "scene", "wall s", "run s", "compute s", "exchange s", "latency s", "share"
+            "{:<34} {:>8} {:>8} {:>10} {:>10} {:>10} {:>9} {:>7} {:>7}",
+            "scene", "wall s", "run s", "compute s", "exchange s", "latency s", "hand-offs", "share", "floor"
         );
     }
     for scene in scenes {
-        match scene_share(&exe, scene) {
+        match scene_share(&exe, scene, floor_us.unwrap_or(f64::NAN)) {
             Ok(line) => println!("{line}"),
             Err(e) => {
                 eprintln!("error: {}: {e}", scene.display());
@@ -104,8 +113,9 @@ fn print_table(table: &[(&str, Vec<Times>)]) {
     }
 }
 
-/// Run `scene` through `coupler run` and read where its wall time went.
-fn scene_share(exe: &Path, scene: &Path) -> Result<String, String> {
+/// Run `scene` through `coupler run` and read where its wall time went;
+/// `floor_us` is the cache-line round trip.
+fn scene_share(exe: &Path, scene: &Path, floor_us: f64) -> Result<String, String> {
     let dir = std::env::temp_dir().join(format!(
         "canopy-bench-{}",
         participant::supervisor::new_run_id()
@@ -128,14 +138,18 @@ fn scene_share(exe: &Path, scene: &Path) -> Result<String, String> {
     };
     let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
     let c = &m["coupling"];
+    let reads = c["reads"].as_u64().unwrap_or(0);
+    let floor = reads as f64 * 0.5 * floor_us * 1e-6 / f(&c["run_s"]);
     Ok(format!(
-        "{:<34} {:>8.3} {:>8.3} {:>10.3} {:>10.3} {:>10.3} {:>6.2}%",
+        "{:<34} {:>8.3} {:>8.3} {:>10.3} {:>10.3} {:>10.3} {:>9} {:>6.2}% {:>6.2}%",
         scene.display(),
         f(&m["coupler"]["wall_s"]),
         f(&c["run_s"]),
         f(&c["compute_s"]),
         f(&c["exchange_s"]),
         f(&c["latency_s"]),
-        100.0 * f(&c["exchange_share"])
+        reads,
+        100.0 * f(&c["exchange_share"]),
+        100.0 * floor
     ))
 }
