@@ -6,6 +6,7 @@
 
 pub mod bodies;
 pub mod body;
+pub mod checkpoint;
 pub mod contact;
 pub mod driver;
 pub mod euler_parameters;

@@ -5,30 +5,11 @@
 use rigid_proc::Bodies;
 use rigid_section::RigidSection;
 
-const SCENE: &str = r#"
-gravity = [0.0, 0.0, 0.0]
-restitution = 1.0
-
-[[bodies]]
-name = "block"
-shape = { type = "cuboid", size = [0.4, 0.2, 0.3] }
-mass = 3.0
-position = [0.0, 0.0, 0.0]
-orientation = [0.0, 0.0, 0.5]
-velocity = [1.0, 0.1, 0.0]
-angular_velocity = [0.0, 0.0, 0.3]
-
-[[bodies]]
-name = "ball"
-shape = { type = "sphere", radius = 0.1 }
-mass = 1.0
-position = [0.5, 0.12, 0.05]
-velocity = [-0.5, 0.0, 0.0]
-"#;
+mod common;
 
 #[test]
 fn an_elastic_off_centre_impact_keeps_momentum_angular_momentum_and_energy() {
-    let section: RigidSection = toml::from_str(SCENE).unwrap();
+    let section: RigidSection = toml::from_str(common::IMPACT).unwrap();
     let mut b = Bodies::new(&section, &[]).unwrap();
     let (p0, l0, e0) = (b.momentum(), b.angular_momentum(), b.kinetic_energy());
     let spin0 = b.bodies[0].world_angular_velocity();

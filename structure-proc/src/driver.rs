@@ -28,6 +28,15 @@ pub trait Stepper {
     /// attachment impulses and `m.time` (see [`Model::finish_step`]).
     fn step(&mut self, m: &mut Model, loads: &Loads, dt: f64) -> Result<(), StepError>;
 
+    /// Append to `into` what the method's next step reads beyond the model
+    /// (an integrator's carried acceleration, an adaptive step size), so
+    /// that a window can be repeated from its checkpoint bit for bit
+    /// (`checkpoint.rs`). A method with no such history appends nothing.
+    fn save_history(&self, into: &mut Vec<f64>);
+
+    /// Take back what [`save_history`](Self::save_history) wrote.
+    fn restore_history(&mut self, from: &[f64]);
+
     /// Whether the method is the scenario's `[structure] integrator`, whose
     /// stability interval the coupler's estimate assumes. Other methods
     /// (xpbd-proc's constraint solver) report no ω_max.
@@ -59,6 +68,14 @@ impl Stepper for Scheme {
 
     fn step(&mut self, m: &mut Model, loads: &Loads, dt: f64) -> Result<(), StepError> {
         m.step(self.integrator.as_mut(), loads, dt)
+    }
+
+    fn save_history(&self, into: &mut Vec<f64>) {
+        self.integrator.save_history(into);
+    }
+
+    fn restore_history(&mut self, from: &[f64]) {
+        self.integrator.restore_history(from);
     }
 
     fn is_scenario_integrator(&self) -> bool {

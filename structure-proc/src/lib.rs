@@ -10,6 +10,7 @@
 pub mod annulus;
 pub mod answer;
 pub mod build;
+pub mod checkpoint;
 pub mod collision;
 pub mod cross;
 pub mod divergence;

@@ -122,6 +122,12 @@ impl Stepper for Xpbd {
         "xpbd"
     }
 
+    /// None: every step starts its multipliers λ from zero (Macklin et al.
+    /// 2016, Algorithm 1), and its buffers are scratch.
+    fn save_history(&self, _into: &mut Vec<f64>) {}
+
+    fn restore_history(&mut self, _from: &[f64]) {}
+
     fn step(&mut self, m: &mut Model, loads: &Loads, h: f64) -> Result<(), StepError> {
         let n = m.x.len();
         self.f.resize(n, 0.0);

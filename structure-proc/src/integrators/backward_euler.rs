@@ -26,6 +26,17 @@ impl BackwardEuler {
 }
 
 impl Integrator for BackwardEuler {
+    /// The last step's acceleration: the next Newton solve's initial guess,
+    /// which its converged result depends on to round-off.
+    fn save_history(&self, into: &mut Vec<f64>) {
+        into.extend_from_slice(&self.a);
+    }
+
+    fn restore_history(&mut self, from: &[f64]) {
+        self.a.clear();
+        self.a.extend_from_slice(from);
+    }
+
     fn step(
         &mut self,
         sys: &dyn System,

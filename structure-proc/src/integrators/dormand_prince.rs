@@ -133,6 +133,19 @@ impl DormandPrince {
 }
 
 impl Integrator for DormandPrince {
+    /// The internal step size to try next, and the steps accepted so far
+    /// (exact in an f64 below 2⁵³).
+    fn save_history(&self, into: &mut Vec<f64>) {
+        into.extend([self.h_next, self.accepted as f64]);
+    }
+
+    fn restore_history(&mut self, from: &[f64]) {
+        if let [h_next, accepted] = *from {
+            self.h_next = h_next;
+            self.accepted = accepted as u64;
+        }
+    }
+
     fn step(
         &mut self,
         sys: &dyn System,

@@ -54,6 +54,18 @@ pub trait Integrator: Send {
     fn internal_steps(&self) -> Option<u64> {
         None
     }
+
+    /// Append to `into` what the next step reads beyond (x, v): the
+    /// history a repeated window must start from (see `checkpoint.rs`).
+    /// Nothing for one-step schemes whose buffers are only scratch.
+    fn save_history(&self, into: &mut Vec<f64>) {
+        let _ = into;
+    }
+
+    /// Take back the history [`save_history`](Self::save_history) wrote.
+    fn restore_history(&mut self, from: &[f64]) {
+        let _ = from;
+    }
 }
 
 /// The integrator for `scheme`.

@@ -36,6 +36,16 @@ impl Newmark {
 }
 
 impl Integrator for Newmark {
+    /// a_n, carried into the next step's predictor (empty before the first).
+    fn save_history(&self, into: &mut Vec<f64>) {
+        into.extend_from_slice(&self.a);
+    }
+
+    fn restore_history(&mut self, from: &[f64]) {
+        self.a.clear();
+        self.a.extend_from_slice(from);
+    }
+
     fn step(
         &mut self,
         sys: &dyn System,

@@ -68,7 +68,9 @@ pub fn exchange(rounds: usize, scenes: &[PathBuf]) -> i32 {
     }
     let floor_us = floor::round_trip_us();
     match floor_us {
-        Some(us) => println!("floor: one cache line from core to core and back (two threads on atomics): {us:.3} µs"),
+        Some(us) => println!(
+            "floor: one cache line from core to core and back (two threads on atomics): {us:.3} µs"
+        ),
         None => println!("floor: not measured (one core)"),
     }
     if !scenes.is_empty() {
@@ -78,7 +80,15 @@ pub fn exchange(rounds: usize, scenes: &[PathBuf]) -> i32 {
         println!("floor: the share its hand-offs (values read) would take at half the cache-line round trip each");
         println!(
             "{:<34} {:>8} {:>8} {:>10} {:>10} {:>10} {:>9} {:>7} {:>7}",
-            "scene", "wall s", "run s", "compute s", "exchange s", "latency s", "hand-offs", "share", "floor"
+            "scene",
+            "wall s",
+            "run s",
+            "compute s",
+            "exchange s",
+            "latency s",
+            "hand-offs",
+            "share",
+            "floor"
         );
     }
     for scene in scenes {

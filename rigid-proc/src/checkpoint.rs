@@ -1,0 +1,31 @@
+//! A window's checkpoint of the rigid bodies: what rigid-proc saves at the
+//! start of a coupling window so that implicit coupling can take the
+//! window again, bit for bit, from the same inputs. That is every body's
+//! state (centre, velocity, Euler parameters, angular velocity) and the
+//! count of contact impulses; no contact persists from step to step (each
+//! step detects its own, `contact.rs`), and shapes and masses do not change.
+
+use crate::{Bodies, State};
+
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Checkpoint {
+    states: Vec<State>,
+    contact_impulses: u64,
+}
+
+impl Bodies {
+    /// Save the bodies' state into `into`, reusing its buffer.
+    pub fn save(&self, into: &mut Checkpoint) {
+        into.states.clear();
+        into.states.extend(self.bodies.iter().map(|b| b.state));
+        into.contact_impulses = self.contact_impulses;
+    }
+
+    /// Return to the state `from` holds.
+    pub fn restore(&mut self, from: &Checkpoint) {
+        for (body, state) in self.bodies.iter_mut().zip(&from.states) {
+            body.state = *state;
+        }
+        self.contact_impulses = from.contact_impulses;
+    }
+}
