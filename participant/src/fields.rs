@@ -89,6 +89,11 @@ impl Outputs {
         self.list.iter().position(|o| o.name == name)
     }
 
+    /// Every participant that reads a field written here, by index.
+    pub fn readers(&self) -> impl Iterator<Item = usize> + '_ {
+        self.list.iter().flat_map(|o| o.readers.iter().copied())
+    }
+
     pub fn has_readers(&self, i: usize) -> bool {
         self.list[i].publisher.is_some()
     }

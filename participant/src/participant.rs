@@ -386,6 +386,27 @@ impl Participant {
         Ok(self.control.send(&FromParticipant::Failed { reason })?)
     }
 
+    /// Keep this participant's shared memory until every reader of its
+    /// fields has left the run, at most the run's timeout. A field that
+    /// outgrew its first segment lives in a segment that a reader maps only
+    /// when it receives the value, and the segment goes with its writer:
+    /// a writer leaving first would lose its last value (iceoryx2's "lost
+    /// chunk" of a reallocated data segment) and stall its reader. Every
+    /// participant leaves before it lingers, so no two wait for each other.
+    fn linger(&self) {
+        let presence = &self.waiter.presence;
+        let limit = Duration::from_secs_f64(self.setup.timing.timeout);
+        let since = Instant::now();
+        let mut readers: Vec<usize> = self.outputs.readers().collect();
+        while since.elapsed() < limit {
+            readers.retain(|&r| !presence.has_left(r));
+            if readers.is_empty() {
+                return;
+            }
+            std::thread::sleep(Duration::from_micros(200));
+        }
+    }
+
     /// After `Stop`: send the last monitor rows and this process's
     /// statistics; `substeps` is the number of internal sub-steps the
     /// solver took. The process then exits 0.
@@ -393,6 +414,7 @@ impl Participant {
         let entered = self.clock.enter();
         self.waiter.presence.own().leave();
         self.send_rows(true)?;
+        self.linger();
         self.clock.leave(entered, Duration::ZERO, Duration::ZERO);
         let mut stats = self.clock.stats.clone();
         stats.substeps = substeps;

@@ -211,6 +211,12 @@ impl Presence {
         Ok(())
     }
 
+    /// Whether participant `p` has left the run (its flag says so; a
+    /// participant still in the run holds at least one rank).
+    pub fn has_left(&self, p: usize) -> bool {
+        self.seen(p).is_none_or(|s| s.ranks == 0)
+    }
+
     /// Whether this machine has a core to spare at all.
     pub fn can_spin(&self) -> bool {
         self.cores >= 2
