@@ -20,6 +20,7 @@
 //! returns are the whole box's.
 
 use crate::advection::advection;
+use crate::checkpoint::History;
 use crate::faces::{for_each_cell_faces, Faces};
 use crate::grid::Grid;
 use crate::immersed::{force, ImmersedBody};
@@ -167,6 +168,29 @@ impl Incompressible {
         };
         flow.impose_sides();
         flow
+    }
+
+    /// The step history and solver warm starts (`checkpoint.rs`).
+    pub fn save_history(&self, into: &mut History) {
+        into.phi.clone_from(&self.phi);
+        into.last_dt = self.last_dt;
+        let work = self.work.iter().flatten();
+        into.advection.resize(work.clone().count(), Vec::new());
+        into.delta.resize(into.advection.len(), Vec::new());
+        for (w, (n, d)) in work.zip(into.advection.iter_mut().zip(&mut into.delta)) {
+            n.clone_from(&w.n[0]);
+            d.clone_from(&w.delta.data);
+        }
+    }
+
+    pub fn restore_history(&mut self, from: &History) {
+        self.phi.clone_from(&from.phi);
+        self.last_dt = from.last_dt;
+        let work = self.work.iter_mut().flatten();
+        for (w, (n, d)) in work.zip(from.advection.iter().zip(&from.delta)) {
+            w.n[0].clone_from(n);
+            w.delta.data.clone_from(d);
+        }
     }
 
     /// The whole box.

@@ -41,6 +41,7 @@
 pub mod advection;
 pub mod canopy;
 pub mod characteristic;
+pub mod checkpoint;
 pub mod clearance;
 pub mod coating;
 pub mod comm;
