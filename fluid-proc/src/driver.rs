@@ -67,7 +67,8 @@ pub(crate) fn declaration(bodies: usize, with_bodies: bool, monitors: Vec<String
         .reads_if_written(CANOPY_TRIANGLES)
         .reads_if_written(CANOPY_POSITIONS)
         .reads_if_written(CANOPY_VELOCITIES)
-        .monitors(monitors);
+        .monitors(monitors)
+        .checkpoints();
     match with_bodies {
         true => d.reads_if_written(BODY_STATES),
         false => d,
@@ -97,7 +98,10 @@ fn porous_windows(p: &mut Participant, model: &Porous, bodies: usize) -> Result<
         match p.next_command()? {
             // No pressure exists before the first window; NaN marks it in monitors.csv.
             Command::Initialize => p.done(vec![Monitor::new("mean_pressure_jump", f64::NAN)])?,
-            Command::Output { .. } => p.done(Vec::new())?,
+            // The jumps depend on the window's inputs alone: nothing to save.
+            Command::Output { .. } | Command::SaveCheckpoint | Command::RestoreCheckpoint => {
+                p.done(Vec::new())?
+            }
             Command::Advance(_) => {
                 let m = porous_window(p, model, bodies, &mut triangles)?;
                 windows += 1;

@@ -11,6 +11,7 @@
 //! pressure jump and the bodies' pressure force it reads from the pressure
 //! it gathers.
 
+use crate::checkpoint::Checkpoint;
 use crate::comm::Comm;
 use crate::driver::fields::*;
 use crate::driver::{declaration, Error};
@@ -25,10 +26,12 @@ use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
 use std::sync::Arc;
 
-/// One rank's flow, and its faces at the start of the window.
+/// One rank's flow, its faces at the start of the window, and the
+/// window's checkpoint (implicit coupling).
 struct Flow {
     flow: Incompressible,
     before: Faces,
+    checkpoint: Checkpoint,
 }
 
 /// What obeying an order gave; only rank 0's is used.
@@ -39,6 +42,7 @@ enum Done {
     /// Monitors, steps taken, and on rank 0 the box's pressure [Pa] where
     /// the canopy or the bodies' monitors read it.
     Advanced(Vec<Monitor>, u64, Option<Vec<f64>>),
+    Checkpoint,
     Stop,
 }
 
@@ -81,6 +85,14 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
                 None
             };
             Done::Advanced(m, n as u64, pressure)
+        }
+        Order::Checkpoint { restore: false } => {
+            flow.save(&mut f.checkpoint);
+            Done::Checkpoint
+        }
+        Order::Checkpoint { restore: true } => {
+            flow.restore(&f.checkpoint);
+            Done::Checkpoint
         }
         Order::Stop => Done::Stop,
     })
@@ -134,6 +146,7 @@ pub fn lead(
     let mut f = Flow {
         before: flow.u.clone(),
         flow,
+        checkpoint: Checkpoint::default(),
     };
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
     let bodies =
@@ -187,6 +200,7 @@ fn run(
         let flow = &mut f.flow;
         match (command, done) {
             (_, Done::Stop) => break,
+            (_, Done::Checkpoint) => p.done(Vec::new())?,
             (_, Done::Monitors(mut m)) => {
                 m.extend(bodies.monitors(flow, None));
                 if jump_monitor {
@@ -277,6 +291,7 @@ pub fn follow(section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Error> 
     let mut f = Flow {
         before: flow.u.clone(),
         flow,
+        checkpoint: Checkpoint::default(),
     };
     loop {
         let order = Order::Stop.share(comm.as_ref());

@@ -22,6 +22,10 @@ pub enum Order {
         substeps: u32,
         window_end: bool,
     },
+    /// Save the window's start (implicit coupling), or return to it.
+    Checkpoint {
+        restore: bool,
+    },
     Stop,
 }
 
@@ -37,6 +41,8 @@ impl Order {
                 substeps: a.substeps,
                 window_end: a.window_end,
             },
+            Command::SaveCheckpoint => Order::Checkpoint { restore: false },
+            Command::RestoreCheckpoint => Order::Checkpoint { restore: true },
             Command::Stop => Order::Stop,
         }
     }
@@ -52,6 +58,7 @@ impl Order {
                 window_end,
             } => [2.0, dt, window_end as u8 as f64, substeps as f64],
             Order::Stop => [3.0, 0.0, 0.0, 0.0],
+            Order::Checkpoint { restore } => [4.0, restore as u8 as f64, 0.0, 0.0],
         }
     }
 
@@ -66,6 +73,9 @@ impl Order {
                 dt: x[1],
                 window_end: x[2] != 0.0,
                 substeps: x[3] as u32,
+            },
+            4 => Order::Checkpoint {
+                restore: x[1] != 0.0,
             },
             _ => Order::Stop,
         }

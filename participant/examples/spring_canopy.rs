@@ -100,9 +100,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .writes("canopy.positions", 3, n)
             .writes("canopy.velocities", 3, n)
             .reads("canopy.pressure") // a fluid must take part
-            .monitors(["kinetic_energy", "centre_deflection"]),
+            .monitors(["kinetic_energy", "centre_deflection"])
+            .checkpoints(), // it can take a window again: implicit coupling works
     )?;
     let (mut v, mut jump) = (vec![[0.0; 3]; n], vec![0.0; tris.len()]);
+    let mut saved = (x.clone(), v.clone()); // the window's start, for implicit coupling
     let window_end = |p: &mut Participant, x: &[V3], v: &[V3]| {
         p.write_field("canopy.positions", 3 * n, |o| o.copy_from_slice(x.as_flattened()))?;
         p.write_field("canopy.velocities", 3 * n, |o| o.copy_from_slice(v.as_flattened()))?;
@@ -140,6 +142,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     }
                 }
                 window_end(&mut p, &x, &v)?;
+            }
+            Command::SaveCheckpoint => {
+                saved = (x.clone(), v.clone());
+                p.done(vec![])?
+            }
+            Command::RestoreCheckpoint => {
+                (x, v) = saved.clone();
+                p.done(vec![])?
             }
             Command::Output { .. } => p.done(vec![])?,
             Command::Stop => break,

@@ -28,6 +28,8 @@ pub type Stamp = [u64; 2];
 pub type FieldOut = Publisher<Ipc, [f64], Stamp>;
 pub type FieldIn = Subscriber<Ipc, [f64], Stamp>;
 pub type FieldSample = iceoryx2::sample::Sample<Ipc, [f64], Stamp>;
+/// A field's value being written, in loaned shared memory.
+pub type FieldLoan = iceoryx2::sample_mut::SampleMut<Ipc, [f64], Stamp>;
 /// A participant's own "asleep" flag, and another's, read.
 pub type FlagOut = EntryHandleMut<Ipc, u64, u64>;
 pub type FlagIn = EntryHandle<Ipc, u64, u64>;
@@ -47,6 +49,10 @@ const FIELD_BUFFER: usize = 2;
 const MESSAGE_BUFFER: usize = 16;
 /// The key of the one entry on a participant's blackboard.
 pub const ASLEEP_KEY: u64 = 0;
+/// A participant's word on its last try at a window (`verdict.rs`), and
+/// with it its worst unconverged field: index among the measured + 1 (0:
+/// none), ‖r‖₂ and ‖x‖₂ as f64 bits.
+pub const TRY_KEYS: [u64; 4] = [1, 2, 3, 4];
 
 #[derive(Debug, thiserror::Error)]
 pub enum ChannelError {
@@ -223,26 +229,50 @@ pub fn listener(node: &Node<Ipc>, name: &str) -> Result<Listener<Ipc>, ChannelEr
         .map_err(ipc_err("create listener"))
 }
 
-/// A participant's own blackboard with its "asleep" flag (0: awake).
-pub fn own_flag(node: &Node<Ipc>, name: &str) -> Result<(Board, FlagOut), ChannelError> {
-    let board = node
+/// Every key of a participant's blackboard, in the order of its entries.
+const BOARD_KEYS: [u64; 5] = [
+    ASLEEP_KEY,
+    TRY_KEYS[0],
+    TRY_KEYS[1],
+    TRY_KEYS[2],
+    TRY_KEYS[3],
+];
+
+/// The entries of [`BOARD_KEYS`], each as `entry` opens it.
+fn entries<T>(entry: impl Fn(&u64) -> Result<T, ChannelError>) -> Result<[T; 5], ChannelError> {
+    let all = BOARD_KEYS
+        .iter()
+        .map(entry)
+        .collect::<Result<Vec<T>, _>>()?;
+    Ok(all
+        .try_into()
+        .unwrap_or_else(|_| unreachable!("one entry per key")))
+}
+
+/// A participant's own blackboard with its "asleep" flag (0: awake) and
+/// its word on its last try at a window (0: none yet), [`TRY_KEYS`].
+pub fn own_flag(node: &Node<Ipc>, name: &str) -> Result<(Board, [FlagOut; 5]), ChannelError> {
+    let mut creator = node
         .service_builder(&service_name(name)?)
-        .blackboard_creator::<u64>()
-        .add::<u64>(ASLEEP_KEY, 0)
-        .create()
-        .map_err(ipc_err("create blackboard"))?;
+        .blackboard_creator::<u64>();
+    for key in BOARD_KEYS {
+        creator = creator.add::<u64>(key, 0);
+    }
+    let board = creator.create().map_err(ipc_err("create blackboard"))?;
     let writer = board
         .writer_builder()
         .create()
         .map_err(ipc_err("create blackboard writer"))?;
-    let flag = writer
-        .entry::<u64>(&ASLEEP_KEY)
-        .map_err(ipc_err("blackboard entry"))?;
-    Ok((board, flag))
+    let flags = entries(|key| {
+        writer
+            .entry::<u64>(key)
+            .map_err(ipc_err("blackboard entry"))
+    })?;
+    Ok((board, flags))
 }
 
-/// Another participant's "asleep" flag, to read.
-pub fn peer_flag(node: &Node<Ipc>, name: &str) -> Result<(Board, FlagIn), ChannelError> {
+/// Another participant's "asleep" flag and word on its last try, to read.
+pub fn peer_flag(node: &Node<Ipc>, name: &str) -> Result<(Board, [FlagIn; 5]), ChannelError> {
     let board = node
         .service_builder(&service_name(name)?)
         .blackboard_opener::<u64>()
@@ -252,10 +282,12 @@ pub fn peer_flag(node: &Node<Ipc>, name: &str) -> Result<(Board, FlagIn), Channe
         .reader_builder()
         .create()
         .map_err(ipc_err("create blackboard reader"))?;
-    let flag = reader
-        .entry::<u64>(&ASLEEP_KEY)
-        .map_err(ipc_err("blackboard entry"))?;
-    Ok((board, flag))
+    let flags = entries(|key| {
+        reader
+            .entry::<u64>(key)
+            .map_err(ipc_err("blackboard entry"))
+    })?;
+    Ok((board, flags))
 }
 
 /// The system-wide monotonic clock in nanoseconds: comparable between the

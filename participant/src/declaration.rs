@@ -18,6 +18,10 @@
 use crate::timing::Cadence;
 use serde::{Deserialize, Serialize};
 
+/// What a participant that saves and restores window checkpoints declares
+/// it supports.
+pub const CHECKPOINTS: &str = "checkpoints";
+
 /// A field a participant publishes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Write {
@@ -46,8 +50,8 @@ pub struct Declaration {
     pub writes: Vec<Write>,
     pub reads: Vec<Read>,
     pub monitors: Vec<String>,
-    /// Optional commands the participant supports (none yet; window
-    /// checkpoints come with implicit coupling).
+    /// Optional commands the participant supports: [`CHECKPOINTS`] for
+    /// `SaveCheckpoint` and `RestoreCheckpoint`, which implicit coupling needs.
     pub supports: Vec<String>,
 }
 
@@ -106,6 +110,19 @@ impl Declaration {
     pub fn monitors<S: Into<String>>(mut self, names: impl IntoIterator<Item = S>) -> Self {
         self.monitors.extend(names.into_iter().map(Into::into));
         self
+    }
+
+    /// Saves its state at a window's start and restores it on
+    /// `SaveCheckpoint` and `RestoreCheckpoint`, so that implicit coupling
+    /// can take a window again; a window taken again from its checkpoint
+    /// with the same inputs must give the same outputs.
+    pub fn checkpoints(mut self) -> Self {
+        self.supports.push(CHECKPOINTS.to_string());
+        self
+    }
+
+    pub fn supports_checkpoints(&self) -> bool {
+        self.supports.iter().any(|s| s == CHECKPOINTS)
     }
 
     pub fn monitor_names(&self) -> &[String] {

@@ -48,6 +48,15 @@ pub enum ExchangeError {
         readers.join(", ")
     )]
     Unread { field: String, readers: Vec<String> },
+    #[error(
+        "window {window} did not converge in {tries} tries (the most `[coupling.implicit] \
+         max_iterations` allows): {detail}"
+    )]
+    Unconverged {
+        window: u64,
+        tries: u32,
+        detail: String,
+    },
     #[error("monitor `{0}` was not declared")]
     UndeclaredMonitor(String),
     #[error("{0}")]

@@ -5,7 +5,7 @@
 //! writer numbers its values and a reader checks the numbers, so a value
 //! lost or read twice is an error rather than a silent wrong answer.
 
-use crate::channel::{self, ChannelError, FieldIn, FieldOut, FieldSample, Ipc};
+use crate::channel::{self, ChannelError, FieldIn, FieldLoan, FieldOut, FieldSample, Ipc};
 use crate::declaration::{Read, Write};
 use crate::error::ExchangeError;
 use crate::names;
@@ -107,10 +107,30 @@ impl Outputs {
         fill: impl FnOnce(&mut [f64]),
         presence: &Presence,
     ) -> Result<Written, ExchangeError> {
+        let Some((sample, computed)) = self.fill(i, len, fill)? else {
+            return Ok(Written::default());
+        };
+        let stamped = std::time::Instant::now();
+        self.send(i, sample, presence)?;
+        Ok(Written {
+            computed,
+            in_flight: stamped.elapsed(),
+        })
+    }
+
+    /// `len` values of output `i` computed by `fill` into loaned shared
+    /// memory, not yet sent, and the time `fill` took; None when nobody
+    /// reads it.
+    pub fn fill(
+        &mut self,
+        i: usize,
+        len: usize,
+        fill: impl FnOnce(&mut [f64]),
+    ) -> Result<Option<(FieldLoan, Duration)>, ExchangeError> {
         let out = &mut self.list[i];
         check_length(out, len)?;
         let Some(publisher) = &out.publisher else {
-            return Ok(Written::default());
+            return Ok(None);
         };
         let sample = publisher
             .loan_slice_uninit(len)
@@ -121,8 +141,18 @@ impl Outputs {
         let mut sample = unsafe { sample.assume_init() };
         let computing = std::time::Instant::now();
         fill(sample.payload_mut());
-        let computed = computing.elapsed();
-        let stamped = std::time::Instant::now();
+        Ok(Some((sample, computing.elapsed())))
+    }
+
+    /// Send a filled `sample` of output `i`, numbered and stamped now; then
+    /// wake the readers that sleep.
+    pub fn send(
+        &mut self,
+        i: usize,
+        mut sample: FieldLoan,
+        presence: &Presence,
+    ) -> Result<(), ExchangeError> {
+        let out = &mut self.list[i];
         *sample.user_header_mut() = [out.seq, channel::monotonic_ns()];
         if sample.send().is_err() {
             return Err(ExchangeError::Unread {
@@ -132,10 +162,7 @@ impl Outputs {
         }
         out.seq += 1;
         presence.wake_sleeping(&out.readers)?;
-        Ok(Written {
-            computed,
-            in_flight: stamped.elapsed(),
-        })
+        Ok(())
     }
 }
 

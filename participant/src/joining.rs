@@ -164,11 +164,14 @@ impl Joining {
             ToParticipant::Start => {}
             other => return Err(protocol("Start", &other)),
         }
-        let plan = Plan::new(
+        let mut plan = Plan::new(
             &self.setup.timing,
             declaration.cadence,
             connections.partnered,
         );
+        if self.setup.scheme.implicit().is_some() {
+            plan = plan.implicit();
+        }
         let names = &self.setup.participants;
         let me = names
             .iter()

@@ -16,10 +16,12 @@
 //! before its inputs arrived, and the coupler only supervises. The
 //! protocol is described for solver authors in `docs/PROTOCOL.md`.
 
+mod acceleration;
 mod channel;
 mod declaration;
 mod error;
 mod fields;
+mod implicit;
 mod joining;
 mod matching;
 mod monitors;
@@ -27,9 +29,11 @@ pub mod mpirun;
 mod names;
 mod participant;
 mod presence;
+pub mod scheme;
 pub mod supervisor;
 mod timing;
 mod usage;
+mod verdict;
 pub mod vtu;
 mod wait;
 mod wire;

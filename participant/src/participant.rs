@@ -21,6 +21,8 @@
 //!             p.done(vec![Monitor::new("kinetic_energy", 0.0)])?;
 //!         }
 //!         Command::Output { .. } => p.done(vec![])?,
+//!         // Only to a participant that declares `.checkpoints()`.
+//!         Command::SaveCheckpoint | Command::RestoreCheckpoint => p.done(vec![])?,
 //!         Command::Stop => break,
 //!     }
 //! }
@@ -35,8 +37,10 @@
 use crate::channel::{self, BytesIn, BytesOut, ChannelError, FieldSample, Ipc};
 use crate::error::ExchangeError;
 use crate::fields::{Inputs, Outputs};
+use crate::implicit::Tries;
 use crate::monitors::{Batch, Monitor, Rows};
 use crate::timing::{Command, Plan, Timing};
+use crate::verdict::{self, Heard};
 use crate::wait::{WaitError, Waiter};
 use crate::wire::{FromParticipant, Setup, Stats};
 use iceoryx2::node::Node;
@@ -127,6 +131,36 @@ impl Clock {
     }
 }
 
+/// The worst unconverged field of each participant in `unconverged`, with
+/// its residual and writer.
+fn unconverged_detail(
+    tries: &Tries,
+    unconverged: &[usize],
+    me: usize,
+    names: &[String],
+    presence: &crate::presence::Presence,
+) -> String {
+    let fields = &tries.settings.fields;
+    let parts: Vec<String> = unconverged
+        .iter()
+        .map(|&p| {
+            let worst = match p == me {
+                true => tries.worst(),
+                false => presence.worst(p),
+            };
+            match worst {
+                Some((i, r, x)) => format!(
+                    "field `{}` of `{}`: residual {r:.3e} against a value of {x:.3e}",
+                    fields.get(i).map_or("?", |f| f.field.as_str()),
+                    names[p]
+                ),
+                None => format!("a field of `{}`", names[p]),
+            }
+        })
+        .collect();
+    parts.join("; ")
+}
+
 /// One solver's connection to a running coupled run. See the module docs.
 pub struct Participant {
     name: String,
@@ -136,6 +170,8 @@ pub struct Participant {
     outputs: Outputs,
     inputs: Inputs,
     plan: Plan,
+    /// Implicit coupling: the tries at the current window.
+    tries: Option<Tries>,
     rows: Rows,
     /// The command handed out and not yet reported done.
     pending: Option<Command>,
@@ -161,6 +197,10 @@ impl Participant {
         node: Node<Ipc>,
     ) -> Participant {
         let now = Instant::now();
+        let tries = setup
+            .scheme
+            .implicit()
+            .map(|i| Tries::new(i.clone(), &outputs));
         Participant {
             name,
             setup,
@@ -169,6 +209,7 @@ impl Participant {
             outputs,
             inputs,
             plan,
+            tries,
             rows,
             pending: None,
             failed: false,
@@ -220,6 +261,17 @@ impl Participant {
                 "next_command() was called before the last command was reported done()",
             ));
         }
+        let mut waited = Duration::ZERO;
+        if let Some((window, iteration)) = self.plan.verdict_due() {
+            let waiting = Instant::now();
+            let again = self.verdict(window, iteration)?;
+            waited = waiting.elapsed();
+            self.plan.decide(again);
+            if !again {
+                self.rows.push_row();
+                self.send_rows(false)?;
+            }
+        }
         let command = self.plan.next().ok_or(ExchangeError::Misuse(
             "next_command() was called after Stop",
         ))?;
@@ -227,8 +279,83 @@ impl Participant {
             self.pending = Some(command);
         }
         self.clock.stats.commands += 1;
-        self.clock.leave(entered, Duration::ZERO, Duration::ZERO);
+        self.clock.leave(entered, waited, Duration::ZERO);
         Ok(command)
+    }
+
+    /// The verdict on try `iteration` at `window`, once every participant
+    /// has posted its word on it (`verdict.rs`): take the window again
+    /// (true) or go on. At the most tries allowed, an unconverged window
+    /// stops the run, or goes on with a warning if the scenario says so.
+    fn verdict(&mut self, window: u64, iteration: u32) -> Result<bool, ExchangeError> {
+        let tries = self.tries.as_ref().expect("an implicit plan has tries");
+        let presence = &self.waiter.presence;
+        let me = presence.me();
+        let names = &self.setup.participants;
+        let others = || {
+            (0..names.len())
+                .filter(|&p| p != me)
+                .filter_map(|p| presence.word(p).map(|w| (p, w)))
+        };
+        let behind = others()
+            .find(|(_, w)| {
+                verdict::hear([(0, *w)].into_iter(), window, iteration) == Heard::Waiting
+            })
+            .map_or(me, |(p, _)| p);
+        let deadline = Duration::from_secs_f64(self.setup.timing.timeout);
+        let heard = self.waiter.wait(
+            behind,
+            Duration::ZERO,
+            deadline,
+            || {
+                Ok(match verdict::hear(others(), window, iteration) {
+                    Heard::Waiting => None,
+                    heard => Some(heard),
+                })
+            },
+            || {},
+        );
+        let mut unconverged = match heard {
+            Ok(w) => match w.value {
+                Heard::Decided(again) => return Ok(again),
+                Heard::All { unconverged } => unconverged,
+                Heard::Waiting => unreachable!("a wait ends with a word"),
+            },
+            Err(WaitError::Timeout(seconds)) => {
+                return Err(ExchangeError::Stalled {
+                    field: format!("the word on try {} at window {window}", iteration + 1),
+                    writer: names[behind].clone(),
+                    seconds,
+                })
+            }
+            Err(WaitError::Channel(e)) => return Err(e.into()),
+        };
+        if !tries.converged {
+            unconverged.push(me);
+        }
+        let s = &tries.settings;
+        let done = iteration + 1;
+        if done < s.min_iterations.max(1) || (!unconverged.is_empty() && done < s.max_iterations) {
+            return Ok(true);
+        }
+        if unconverged.is_empty() {
+            return Ok(false);
+        }
+        let detail = unconverged_detail(tries, &unconverged, me, names, presence);
+        if s.go_on_at_max {
+            if !tries.converged {
+                eprintln!(
+                    "warning: {}: window {window} did not converge in {done} tries ({detail}); going on",
+                    self.name
+                );
+            }
+            return Ok(false);
+        }
+        Err(ExchangeError::Unconverged {
+            window,
+            tries: done,
+            detail,
+        })
     }
 
     /// Publish `len` values of `field`. `fill` receives the loaned
@@ -246,6 +373,26 @@ impl Participant {
             .outputs
             .find(field)
             .ok_or_else(|| ExchangeError::Undeclared(field.to_string()))?;
+        if let Some(tries) = self.tries.as_mut().filter(|t| t.is_accelerated(i)) {
+            let at_end = match self.pending {
+                Some(Command::Advance(a)) => a.window_end,
+                Some(Command::Initialize) => true,
+                _ => false,
+            };
+            if !at_end {
+                return Err(ExchangeError::Misuse(
+                    "an accelerated field (`[coupling.implicit] accelerate`) is written only \
+                     at a window's end or at Initialize",
+                ));
+            }
+            // Sent when the try is done (`done`), relaxed.
+            if let Some((sample, computed)) = self.outputs.fill(i, len, fill)? {
+                tries.hold(i, sample);
+                self.clock
+                    .leave_sent(entered, Duration::ZERO, computed, Duration::ZERO);
+            }
+            return Ok(());
+        }
         let written = match self.outputs.write(i, len, fill, &self.waiter.presence) {
             Ok(w) => w,
             Err(e) => {
@@ -333,9 +480,26 @@ impl Participant {
         self.rows
             .update(&monitors)
             .map_err(ExchangeError::UndeclaredMonitor)?;
-        let closes_row = match command {
-            Command::Initialize => true,
-            Command::Advance(a) => a.window_end,
+        let closes_row = match (command, self.tries.as_mut()) {
+            (Command::Initialize, Some(tries)) => {
+                tries.send_as_is(&mut self.outputs, &self.waiter.presence)?;
+                true
+            }
+            (Command::SaveCheckpoint, Some(tries)) => {
+                tries.start_window();
+                false
+            }
+            // The row closes once the verdict lets the window go on.
+            (Command::Advance(a), Some(tries)) if a.window_end => {
+                let presence = &self.waiter.presence;
+                let converged = tries.close_try(&mut self.outputs, presence)?;
+                let word = verdict::word(a.window, a.iteration, converged);
+                presence.own().post_word(word, tries.worst());
+                presence.wake_all_sleeping()?;
+                false
+            }
+            (Command::Initialize, None) => true,
+            (Command::Advance(a), None) => a.window_end,
             _ => false,
         };
         if closes_row {

@@ -100,6 +100,10 @@ impl Seen {
 /// This participant's own flag, as it is created when connecting.
 pub struct Own {
     flag: FlagOut,
+    /// Its word on its last try at a window (`verdict.rs`), and its worst
+    /// unconverged field (`channel::TRY_KEYS`).
+    word: FlagOut,
+    worst: [FlagOut; 3],
     ranks: u64,
     _board: Board,
 }
@@ -111,9 +115,11 @@ impl Own {
         name: &str,
         ranks: usize,
     ) -> Result<Own, ChannelError> {
-        let (board, flag) = channel::own_flag(node, &names::asleep(run, name))?;
+        let (board, [flag, word, w0, w1, w2]) = channel::own_flag(node, &names::asleep(run, name))?;
         let own = Own {
             flag,
+            word,
+            worst: [w0, w1, w2],
             ranks: ranks.max(1) as u64,
             _board: board,
         };
@@ -132,6 +138,18 @@ impl Own {
         self.flag.update_with_copy(seen.encode());
     }
 
+    /// Post this participant's word on its last try at a window, after its
+    /// worst unconverged field (`worst`: index among the measured, ‖r‖₂,
+    /// ‖x‖₂), so that a participant reading the word reads it too.
+    pub fn post_word(&self, word: u64, worst: Option<(usize, f64, f64)>) {
+        let (i, r, x) = worst.map_or((0, 0.0, 0.0), |(i, r, x)| (i as u64 + 1, r, x));
+        self.worst[0].update_with_copy(i);
+        self.worst[1].update_with_copy(r.to_bits());
+        self.worst[2].update_with_copy(x.to_bits());
+        std::sync::atomic::fence(Ordering::SeqCst);
+        self.word.update_with_copy(word);
+    }
+
     /// Leaving the run: holding no core, waiting for no one.
     pub fn leave(&self) {
         let seen = Seen {
@@ -147,6 +165,8 @@ impl Own {
 
 struct Peer {
     flag: FlagIn,
+    word: FlagIn,
+    worst: [FlagIn; 3],
     wake: Notifier<Ipc>,
     _board: Board,
 }
@@ -177,10 +197,13 @@ impl Presence {
                 peers.push(None);
                 continue;
             }
-            let (board, flag) = channel::peer_flag(node, &names::asleep(run, name))?;
+            let (board, [flag, word, w0, w1, w2]) =
+                channel::peer_flag(node, &names::asleep(run, name))?;
             let wake = channel::notifier(node, &names::wake(run, name))?;
             peers.push(Some(Peer {
                 flag,
+                word,
+                worst: [w0, w1, w2],
                 wake,
                 _board: board,
             }));
@@ -192,6 +215,11 @@ impl Presence {
             peers,
             cores,
         })
+    }
+
+    /// This participant's index among the run's.
+    pub fn me(&self) -> usize {
+        self.me
     }
 
     /// This participant's own flag.
@@ -209,6 +237,30 @@ impl Presence {
             peer.wake.notify().map_err(channel::ipc_err("notify"))?;
         }
         Ok(())
+    }
+
+    /// Participant `p`'s word on its last try at a window (this one's own
+    /// is not read here).
+    pub fn word(&self, p: usize) -> Option<u64> {
+        Some(*self.peers.get(p)?.as_ref()?.word.get())
+    }
+
+    /// Participant `p`'s worst unconverged field on its last try, as
+    /// [`Own::post_word`] has it.
+    pub fn worst(&self, p: usize) -> Option<(usize, f64, f64)> {
+        let w = &self.peers.get(p)?.as_ref()?.worst;
+        let i = (*w[0].get()).checked_sub(1)?;
+        Some((
+            i as usize,
+            f64::from_bits(*w[1].get()),
+            f64::from_bits(*w[2].get()),
+        ))
+    }
+
+    /// Wake every participant that sleeps.
+    pub fn wake_all_sleeping(&self) -> Result<(), ChannelError> {
+        let all: Vec<usize> = (0..self.peers.len()).filter(|&p| p != self.me).collect();
+        self.wake_sleeping(&all)
     }
 
     /// Whether participant `p` has left the run (its flag says so; a

@@ -229,6 +229,22 @@ impl Supervisor {
                 other => return Err(self.protocol(i, "Declare", other)),
             }
         }
+        let implicit = self
+            .names
+            .first()
+            .is_some_and(|n| setup(n).scheme.implicit().is_some());
+        let unable: Vec<&str> = (self.names.iter().zip(&declarations))
+            .filter(|(_, d)| !d.supports_checkpoints())
+            .map(|(n, _)| n.as_str())
+            .collect();
+        if implicit && !unable.is_empty() {
+            return Err(SuperviseError::Mismatch(format!(
+                "[coupling] scheme = \"implicit\" takes windows again from their \
+                 checkpoints, and `{}` does not save and restore them \
+                 (its declaration lacks `checkpoints()`): use scheme = \"explicit\"",
+                unable.join("`, `")
+            )));
+        }
         self.declarations = declarations;
         Ok(())
     }

@@ -68,6 +68,9 @@ pub struct Advance {
     pub substeps: u32,
     /// True on the last step of a window: report monitors and publish window-end fields.
     pub window_end: bool,
+    /// Which try at the window this is, from 0: implicit coupling repeats a
+    /// window from its checkpoint until the interface converges.
+    pub iteration: u32,
 }
 
 /// What a participant does next, in schedule order.
@@ -76,6 +79,12 @@ pub enum Command {
     /// Publish the initial values of your output fields; report monitors.
     Initialize,
     Advance(Advance),
+    /// Implicit coupling: save the state at this window's start, so that the
+    /// window can be taken again from it (`RestoreCheckpoint`).
+    SaveCheckpoint,
+    /// Implicit coupling: the interface has not converged; return to the
+    /// state saved at this window's start, then take the window again.
+    RestoreCheckpoint,
     /// Write output number `index` (simulated time `time`) into the run directory.
     Output {
         index: u64,
@@ -137,6 +146,10 @@ pub struct Plan {
     per_window: u32,
     substeps: u32,
     outputs: Outputs,
+    /// Whether windows are repeated until the interface converges.
+    implicit: bool,
+    /// The try at the current window, from 0.
+    iteration: u32,
     /// The command after the next one to hand out, as a position.
     at: Position,
 }
@@ -145,8 +158,23 @@ pub struct Plan {
 enum Position {
     Initialize,
     FirstOutput,
-    Advance { window: u64, k: u32 },
-    Output { window: u64 },
+    /// Implicit coupling only: save, or restore, before the window's first advance.
+    Checkpoint {
+        window: u64,
+        restore: bool,
+    },
+    Advance {
+        window: u64,
+        k: u32,
+    },
+    /// Implicit coupling only: the window is over; whether to take it again
+    /// is for [`Plan::decide`] to say.
+    Verdict {
+        window: u64,
+    },
+    Output {
+        window: u64,
+    },
     Stop,
     Over,
 }
@@ -170,7 +198,55 @@ impl Plan {
             per_window,
             substeps: substeps.max(1),
             outputs: Outputs::new(timing),
+            implicit: false,
+            iteration: 0,
             at: Position::Initialize,
+        }
+    }
+
+    /// The same schedule with every window repeated from its checkpoint
+    /// until [`decide`](Self::decide) lets it go on.
+    pub fn implicit(mut self) -> Plan {
+        self.implicit = true;
+        self
+    }
+
+    /// The window whose end awaits a verdict, and the try at it that just
+    /// ended: the schedule goes on only after [`decide`](Self::decide).
+    pub fn verdict_due(&self) -> Option<(u64, u32)> {
+        match self.at {
+            Position::Verdict { window } => Some((window, self.iteration)),
+            _ => None,
+        }
+    }
+
+    /// The verdict on the window that just ended: take it again from its
+    /// checkpoint (`repeat`), or go on.
+    pub fn decide(&mut self, repeat: bool) {
+        let Position::Verdict { window } = self.at else {
+            return;
+        };
+        self.at = match repeat {
+            true => {
+                self.iteration += 1;
+                Position::Checkpoint {
+                    window,
+                    restore: true,
+                }
+            }
+            false => Position::Output { window },
+        };
+    }
+
+    /// Where a window starts: at its checkpoint when implicit.
+    fn window_start(&mut self, window: u64) -> Position {
+        self.iteration = 0;
+        match self.implicit {
+            true => Position::Checkpoint {
+                window,
+                restore: false,
+            },
+            false => Position::Advance { window, k: 0 },
         }
     }
 
@@ -183,6 +259,7 @@ impl Plan {
                 dt,
                 substeps: self.substeps,
                 window_end: true,
+                iteration: self.iteration,
             };
         }
         let dt_i = dt / self.per_window as f64;
@@ -192,6 +269,7 @@ impl Plan {
             dt: dt_i,
             substeps: self.substeps,
             window_end: k + 1 == self.per_window,
+            iteration: self.iteration,
         }
     }
 }
@@ -206,17 +284,28 @@ impl Iterator for Plan {
                 Position::FirstOutput => {
                     let t = self.timing.start_time;
                     let index = self.outputs.due(t, false);
-                    let first = Position::Advance { window: 0, k: 0 };
+                    let first = self.window_start(0);
                     (index.map(|index| Command::Output { index, time: t }), first)
+                }
+                Position::Checkpoint { window, restore } => {
+                    let command = match restore {
+                        true => Command::RestoreCheckpoint,
+                        false => Command::SaveCheckpoint,
+                    };
+                    (Some(command), Position::Advance { window, k: 0 })
                 }
                 Position::Advance { window, k } => {
                     let next = if k + 1 < self.per_window {
                         Position::Advance { window, k: k + 1 }
+                    } else if self.implicit {
+                        Position::Verdict { window }
                     } else {
                         Position::Output { window }
                     };
                     (Some(Command::Advance(self.advance(window, k))), next)
                 }
+                // Undecided: no command until `decide`.
+                Position::Verdict { .. } => return None,
                 Position::Output { window } => {
                     let (t, dt) = self.timing.window_span(window);
                     let last = window + 1 == self.windows;
@@ -225,10 +314,7 @@ impl Iterator for Plan {
                     let next = if last {
                         Position::Stop
                     } else {
-                        Position::Advance {
-                            window: window + 1,
-                            k: 0,
-                        }
+                        self.window_start(window + 1)
                     };
                     (index.map(|index| Command::Output { index, time }), next)
                 }
@@ -284,6 +370,32 @@ mod tests {
         let a = advances(Plan::new(&t, cadence, false));
         assert_eq!(a.len(), 10);
         assert!(a.iter().all(|a| a.substeps == 6 && a.window_end));
+    }
+
+    /// Implicit: each window starts at its checkpoint, waits for a verdict
+    /// at its end, and a repeat restores the checkpoint and counts the try.
+    #[test]
+    fn an_implicit_window_is_taken_again_until_it_is_let_go_on() {
+        let t = timing(0.002, 0.0);
+        let mut plan = Plan::new(&t, Cadence::PerWindow { substeps: 1 }, false).implicit();
+        let mut seen = Vec::new();
+        loop {
+            if let Some((window, iteration)) = plan.verdict_due() {
+                let repeat = iteration < [2, 0][window as usize];
+                plan.decide(repeat);
+                continue;
+            }
+            match plan.next() {
+                Some(Command::Advance(a)) => seen.push(format!("A{}.{}", a.window, a.iteration)),
+                Some(Command::SaveCheckpoint) => seen.push("S".into()),
+                Some(Command::RestoreCheckpoint) => seen.push("R".into()),
+                Some(Command::Output { index, .. }) => seen.push(format!("O{index}")),
+                Some(c) => seen.push(format!("{c:?}")),
+                None => break,
+            }
+        }
+        let expected = "Initialize O0 S A0.0 R A0.1 R A0.2 S A1.0 O1 Stop";
+        assert_eq!(seen.join(" "), expected);
     }
 
     #[test]

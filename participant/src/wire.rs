@@ -29,6 +29,8 @@ pub struct Setup {
     /// The participants of this run, by name, in the scenario's order.
     pub participants: Vec<String>,
     pub timing: Timing,
+    /// Explicit, or implicit with its settings (`[coupling] scheme`).
+    pub scheme: crate::scheme::Scheme,
 }
 
 /// Who writes a field a participant reads, and its layout.

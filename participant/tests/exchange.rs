@@ -3,60 +3,12 @@
 //! every declared monitor reaches the coupler whenever it is reported, and
 //! a participant that waits in vain names the one it waited for.
 
-use participant::supervisor::{Report, Setup, SuperviseError, Supervisor};
-use participant::{Cadence, Command, Declaration, ExchangeError, Joining, Monitor, Timing};
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
+mod common;
+
+use common::{run, timing};
+use participant::supervisor::{Report, SuperviseError};
+use participant::{Cadence, Command, Declaration, ExchangeError, Joining, Monitor};
 use std::time::Duration;
-
-fn timing(windows: u32, timeout: f64) -> Timing {
-    Timing {
-        start_time: 0.0,
-        end_time: windows as f64 * 0.1,
-        window: 0.1,
-        output_interval: 0.0,
-        structure_substeps: 1,
-        impulse_substeps: 1,
-        timeout,
-    }
-}
-
-/// Run `play` for each of `names` as a participant thread of a run with
-/// `timing`, supervised here until every one has finished; returns the
-/// reports, or the supervisor's error.
-fn run(
-    names: &[&str],
-    timing: Timing,
-    play: impl Fn(&str, Joining) + Send + Sync + Clone + 'static,
-) -> Result<Vec<(usize, Report)>, SuperviseError> {
-    let run = participant::supervisor::new_run_id();
-    let names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
-    let mut sup = Supervisor::open(&run, &names, Arc::new(AtomicBool::new(false))).unwrap();
-    for name in names.clone() {
-        let (run, play) = (run.clone(), play.clone());
-        std::thread::spawn(move || play(&name, participant::connect_as(&run, &name).unwrap()));
-    }
-    let dir = std::env::temp_dir();
-    let setup = |_: &str| Setup {
-        run_id: run.clone(),
-        run_dir: dir.clone(),
-        scenario_path: dir.join("test.toml"),
-        scenario: String::new(),
-        participants: names.clone(),
-        timing,
-    };
-    let limit = Duration::from_secs(30);
-    sup.join(setup, limit, limit)?;
-    sup.start(limit)?;
-    let mut reports = Vec::new();
-    let mut finished = 0;
-    while finished < names.len() {
-        let (p, r) = sup.next_report(limit)?.expect("a report within the limit");
-        finished += matches!(r, Report::Finished(_)) as usize;
-        reports.push((p, r));
-    }
-    Ok(reports)
-}
 
 /// xorshift64*: random bit patterns, NaN payloads and subnormals included.
 fn random_bits(n: usize, seed: u64) -> Vec<f64> {
@@ -152,8 +104,8 @@ fn reporter(_: &str, joining: Joining) {
                     Monitor::new("often", windows),
                 ]
             }
-            Command::Output { .. } => vec![],
             Command::Stop => break,
+            _ => vec![],
         };
         p.done(monitors).unwrap();
     }

@@ -5,6 +5,7 @@
 //! participant library.
 
 use crate::body::STATE_LEN;
+use crate::checkpoint::Checkpoint;
 use crate::output::{write_points, write_surfaces};
 use crate::{Bodies, Load};
 use nalgebra::Vector3;
@@ -106,6 +107,7 @@ fn declaration(b: &Bodies, n_i: u32) -> Declaration {
     .reads_if_written(ATTACHMENT_IMPULSE)
     .reads_if_written(COLLISION_IMPULSE)
     .monitors(monitors(b).into_iter().map(|m| m.name))
+    .checkpoints()
 }
 
 /// Join the run as the rigid-body participant, build the bodies of the
@@ -128,6 +130,7 @@ pub fn run() -> Result<(), Error> {
         loads: Vec::new(),
         loads_window: None,
         steps: 0,
+        checkpoint: Checkpoint::default(),
     };
     p.reporting(|p| d.drive(p))?;
     p.finish(d.steps)?;
@@ -143,6 +146,8 @@ struct Driven {
     loads: Vec<Load>,
     loads_window: Option<u64>,
     steps: u64,
+    /// The window's start, for implicit coupling to take it again.
+    checkpoint: Checkpoint,
 }
 
 impl Driven {
@@ -153,6 +158,16 @@ impl Driven {
                 Command::Initialize => {
                     publish(p, &self.bodies, true)?;
                     p.done(monitors(&self.bodies))?;
+                }
+                Command::SaveCheckpoint => {
+                    self.bodies.save(&mut self.checkpoint);
+                    p.done(Vec::new())?;
+                }
+                Command::RestoreCheckpoint => {
+                    self.bodies.restore(&self.checkpoint);
+                    // The window's load comes again with its next try.
+                    self.loads_window = None;
+                    p.done(Vec::new())?;
                 }
                 Command::Advance(step) => self.advance(p, &step)?,
                 Command::Output { index, time } => {

@@ -7,12 +7,14 @@
 pub mod answer;
 mod check;
 mod error;
+pub mod implicit;
 pub mod section;
 mod spans;
 
 pub use answer::{answer_check, Answer, CHECK_FLAG};
 pub use check::{path_string, Checker, Problem, Seg, MAX_MAGNITUDE, MIN_POSITIVE};
 pub use error::ScenarioError;
+pub use implicit::{ImplicitSection, SchemeName};
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -71,9 +73,21 @@ pub struct CouplingSection {
     /// Seconds a participant may take to answer one command before the run is failed.
     #[serde(default = "default_timeout")]
     pub timeout: f64,
+    /// `explicit` (each window once) or `implicit` (each window again from
+    /// its checkpoint until the interface converges).
+    #[serde(default)]
+    pub scheme: SchemeName,
+    /// The implicit scheme's settings; defaults when absent.
+    #[serde(default)]
+    pub implicit: Option<ImplicitSection>,
 }
 
 impl CouplingSection {
+    /// The implicit scheme's settings, when the scheme is implicit.
+    pub fn implicit_settings(&self) -> Option<ImplicitSection> {
+        (self.scheme == SchemeName::Implicit).then(|| self.implicit.clone().unwrap_or_default())
+    }
+
     /// The structure step Δt_s = Δt_f / n_s [s].
     pub fn structure_dt(&self) -> f64 {
         self.window / self.structure_substeps as f64
@@ -300,6 +314,16 @@ impl Scenario {
             );
         }
         c.positive(&["coupling", "timeout"], k.timeout, "s");
+        match (&k.implicit, k.scheme) {
+            (Some(_), SchemeName::Explicit) => c.problem(
+                &["coupling", "implicit"],
+                "[coupling.implicit] is given but scheme is \"explicit\": set \
+                 scheme = \"implicit\" or remove the table"
+                    .into(),
+            ),
+            (Some(i), SchemeName::Implicit) => i.check(c),
+            (None, _) => {}
+        }
     }
 
     /// `[participants]` and the tables beside it: each table a listed

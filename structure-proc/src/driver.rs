@@ -6,6 +6,7 @@
 //! The physics stays in the stepper; the IPC stays here and in the
 //! participant library.
 
+use crate::checkpoint::Checkpoint;
 use crate::collision::Obstacles;
 use crate::divergence::Watch;
 use crate::fields::*;
@@ -14,6 +15,7 @@ use crate::integrators::{Integrator, StepError};
 use crate::output::Output;
 use crate::stability::{omega_max, OMEGA_MAX_MONITOR};
 use crate::{build_model, Model, NodeKind};
+use nalgebra::Vector3;
 use participant::{Advance, Cadence, Command, Declaration, FieldView, Monitor, Participant};
 use structure_section::{Scene, StructureSection};
 
@@ -173,7 +175,8 @@ fn declaration(
     .writes(ATTACHMENT_IMPULSE, 3, m.attachments.len())
     .reads_if_written(CANOPY_PRESSURE)
     .reads_if_written(ATTACHMENT_STATE)
-    .monitors(monitors.iter().map(|m| m.name.clone()));
+    .monitors(monitors.iter().map(|m| m.name.clone()))
+    .checkpoints();
     if let Some(o) = obstacles {
         d = d
             .writes(COLLISION_IMPULSE, 6, o.momenta.len() / 6)
@@ -219,6 +222,7 @@ pub fn run<S: Stepper>(
         substeps: 0,
         pressure: None,
         pressure_window: None,
+        saved: None,
     };
     p.reporting(|p| d.drive(p))?;
     drop(d.pressure.take());
@@ -239,6 +243,17 @@ struct Driven<S> {
     substeps: u64,
     pressure: Option<FieldView>,
     pressure_window: Option<u64>,
+    /// The window's start, for implicit coupling to take it again.
+    saved: Option<Saved>,
+}
+
+/// What a window's start holds beyond the model and stepper
+/// (`checkpoint.rs`): the divergence watch's scale and the collision
+/// counters the monitors report.
+struct Saved {
+    checkpoint: Checkpoint,
+    watch: Watch,
+    collisions: Option<(u64, Vector3<f64>)>,
 }
 
 impl<S: Stepper> Driven<S> {
@@ -254,6 +269,14 @@ impl<S: Stepper> Driven<S> {
                     publish_canopy(p, &self.m, true)?;
                     p.done(self.monitors())?;
                 }
+                Command::SaveCheckpoint => {
+                    self.save();
+                    p.done(Vec::new())?;
+                }
+                Command::RestoreCheckpoint => {
+                    self.restore();
+                    p.done(Vec::new())?;
+                }
                 Command::Advance(step) => self.advance(p, &step)?,
                 Command::Output { index, time } => {
                     self.output.write(&self.m, index, time)?;
@@ -262,6 +285,31 @@ impl<S: Stepper> Driven<S> {
                 Command::Stop => return Ok(()),
             }
         }
+    }
+
+    fn save(&mut self) {
+        let saved = self.saved.get_or_insert_with(|| Saved {
+            checkpoint: Checkpoint::default(),
+            watch: self.watch.clone(),
+            collisions: None,
+        });
+        self.m.save(&mut saved.checkpoint);
+        self.stepper.save_history(&mut saved.checkpoint.history);
+        saved.watch.clone_from(&self.watch);
+        saved.collisions = self.obstacles.as_ref().map(|o| (o.impulses, o.received));
+    }
+
+    fn restore(&mut self) {
+        let Some(saved) = &self.saved else { return };
+        self.m.restore(&saved.checkpoint);
+        self.stepper.restore_history(&saved.checkpoint.history);
+        self.watch.clone_from(&saved.watch);
+        if let (Some(o), Some((impulses, received))) = (&mut self.obstacles, saved.collisions) {
+            o.impulses = impulses;
+            o.received = received;
+        }
+        // The window's pressure comes again with its next try.
+        self.pressure_window = None;
     }
 
     fn advance(&mut self, p: &mut Participant, step: &Advance) -> Result<(), Error> {

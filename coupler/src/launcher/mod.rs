@@ -13,8 +13,10 @@ pub mod run;
 pub mod study;
 pub mod supervise;
 
+use participant::scheme::{Acceleration, Implicit, Measured, Scheme};
 use participant::Timing;
 use programs::Program;
+use scenario::implicit::{AccelerationName, OnMax};
 use scenario::{Answer, Scenario, ScenarioError};
 use std::path::{Path, PathBuf};
 
@@ -173,6 +175,36 @@ pub fn check(path: &Path) -> i32 {
 }
 
 /// The run's clock, as every participant gets it in its setup.
+/// The coupling scheme the participants are told, from `[coupling]`.
+pub fn scheme(s: &Scenario) -> Scheme {
+    let Some(i) = s.coupling.implicit_settings() else {
+        return Scheme::Explicit;
+    };
+    let (relative, absolute) = i.limits();
+    Scheme::Implicit(Implicit {
+        fields: i
+            .accelerate
+            .iter()
+            .map(|f| Measured {
+                field: f.clone(),
+                relative,
+                absolute,
+            })
+            .collect(),
+        acceleration: match i.acceleration {
+            AccelerationName::Constant => Acceleration::Constant {
+                omega: i.relaxation,
+            },
+            AccelerationName::Aitken => Acceleration::Aitken {
+                initial: i.relaxation,
+            },
+        },
+        min_iterations: i.min_iterations,
+        max_iterations: i.max_iterations,
+        go_on_at_max: i.on_max == OnMax::GoOn,
+    })
+}
+
 pub fn timing(s: &Scenario) -> Timing {
     Timing {
         start_time: s.run.start_time,

@@ -247,6 +247,7 @@ fn coupling_thread(
         scenario: checked.text.clone(),
         participants: names.clone(),
         timing: super::timing(&scenario),
+        scheme: super::scheme(&scenario),
     };
     let monitors_path = run_dir.join("monitors.csv");
     let (run_id, flags) = (run_id.to_string(), flags.clone());

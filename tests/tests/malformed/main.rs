@@ -204,6 +204,34 @@ const CASES: &[Case] = &[
         line_of: Some("window = 1e-12"),
     },
     Case {
+        name: "unknown-scheme",
+        edit: |t| {
+            let with = "impulse_substeps = 4     # impulse exchange every structure sub-step";
+            replace(t, with, &format!("{with}\nscheme = \"semi-implicit\""))
+        },
+        key: Some("coupling.scheme"),
+        says: "unknown variant `semi-implicit`",
+        line_of: Some("scheme = \"semi-implicit\""),
+    },
+    Case {
+        name: "implicit-settings-of-an-explicit-scheme",
+        edit: |t| format!("{t}\n[coupling.implicit]\nrelaxation = 0.3\n"),
+        key: Some("coupling.implicit"),
+        says: "scheme is \"explicit\"",
+        line_of: Some("[coupling.implicit]"),
+    },
+    Case {
+        name: "implicit-relaxation-out-of-range",
+        edit: |t| {
+            let with = "impulse_substeps = 4     # impulse exchange every structure sub-step";
+            let implicit = "scheme = \"implicit\"\n\n[coupling.implicit]\nrelaxation = 3.0";
+            replace(t, with, &format!("{with}\n{implicit}"))
+        },
+        key: Some("coupling.implicit.relaxation"),
+        says: "must lie in (0, 2]",
+        line_of: Some("relaxation = 3.0"),
+    },
+    Case {
         name: "syntax-error",
         edit: |t| replace(t, "end_time = 10.0", "end_time = = 10.0"),
         key: None,

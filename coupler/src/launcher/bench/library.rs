@@ -168,6 +168,7 @@ fn supervise(sup: &mut Supervisor, run: &str, dir: &Path) -> Result<Vec<f64>, St
         scenario: String::new(),
         participants: vec!["ping".into(), "pong".into()],
         timing,
+        scheme: Default::default(),
     };
     let limit = Duration::from_secs(60);
     sup.join(setup, limit, limit).map_err(|e| e.to_string())?;

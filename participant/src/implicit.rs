@@ -1,0 +1,131 @@
+//! A participant's side of implicit coupling: the accelerated fields it
+//! writes are held in their loaned shared memory until its try at the
+//! window is done, then measured against what it sent before, relaxed in
+//! place unless they converged (`acceleration.rs`) and sent; its word on
+//! the try goes to the others (`verdict.rs`).
+
+use crate::acceleration::{Accelerator, Norms};
+use crate::channel::FieldLoan;
+use crate::error::ExchangeError;
+use crate::fields::Outputs;
+use crate::presence::Presence;
+use crate::scheme::{Implicit, Measured};
+
+pub struct Tries {
+    pub settings: Implicit,
+    /// This participant's accelerated outputs, by index, with their limits.
+    accelerated: Vec<(usize, Measured)>,
+    accelerator: Accelerator,
+    /// Filled and not yet sent, by output index.
+    held: Vec<(usize, FieldLoan)>,
+    /// The last try's norms per accelerated field.
+    pub last: Vec<(String, Norms)>,
+    /// Whether the last try's fields all converged.
+    pub converged: bool,
+}
+
+impl Tries {
+    pub fn new(settings: Implicit, outputs: &Outputs) -> Tries {
+        let accelerated = settings
+            .fields
+            .iter()
+            .filter_map(|m| outputs.find(&m.field).map(|i| (i, m.clone())))
+            .collect();
+        Tries {
+            accelerator: Accelerator::new(settings.acceleration),
+            settings,
+            accelerated,
+            held: Vec::new(),
+            last: Vec::new(),
+            converged: true,
+        }
+    }
+
+    /// The worst of this participant's unconverged fields on the last try:
+    /// its index among the measured, ‖r‖₂, ‖x‖₂.
+    pub fn worst(&self) -> Option<(usize, f64, f64)> {
+        let s = &self.settings;
+        self.last
+            .iter()
+            .filter_map(|(field, n)| {
+                let i = s.fields.iter().position(|m| m.field == *field)?;
+                let unconverged = !s.fields[i].converged(n.residual, n.value);
+                unconverged.then_some((i, n.residual, n.value))
+            })
+            .max_by(|a, b| (a.1 / a.2).total_cmp(&(b.1 / b.2)))
+    }
+
+    pub fn is_accelerated(&self, output: usize) -> bool {
+        self.accelerated.iter().any(|(i, _)| *i == output)
+    }
+
+    pub fn hold(&mut self, output: usize, sample: FieldLoan) {
+        self.held.push((output, sample));
+    }
+
+    /// A window begins.
+    pub fn start_window(&mut self) {
+        self.accelerator.start_window();
+    }
+
+    /// Send the held values as they are (the initial values).
+    pub fn send_as_is(
+        &mut self,
+        outputs: &mut Outputs,
+        presence: &Presence,
+    ) -> Result<(), ExchangeError> {
+        self.held.sort_by_key(|(i, _)| *i);
+        let mut values: Vec<&mut [f64]> =
+            self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
+        self.accelerator.sent_as_is(&mut values);
+        self.send(outputs, presence)
+    }
+
+    /// The try is over: measure the held values against those sent before,
+    /// relax them unless they all converged, send them. Returns whether
+    /// they converged.
+    pub fn close_try(
+        &mut self,
+        outputs: &mut Outputs,
+        presence: &Presence,
+    ) -> Result<bool, ExchangeError> {
+        self.held.sort_by_key(|(i, _)| *i);
+        let values: Vec<&mut [f64]> = self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
+        let total: usize = values.iter().map(|v| v.len()).sum();
+        let norms = match self.accelerator.sent_len() == total {
+            true => self.accelerator.norms(&values),
+            // Nothing comparable was sent before: nothing to measure yet.
+            false => vec![Norms::default(); values.len()],
+        };
+        self.last.clear();
+        let mut converged = true;
+        for ((i, _), n) in self.held.iter().zip(&norms) {
+            let m = &self
+                .accelerated
+                .iter()
+                .find(|(a, _)| a == i)
+                .expect("held")
+                .1;
+            converged &= m.converged(n.residual, n.value);
+            self.last.push((m.field.clone(), *n));
+        }
+        let mut values: Vec<&mut [f64]> =
+            self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
+        match converged || self.accelerator.sent_len() != total {
+            true => self.accelerator.sent_as_is(&mut values),
+            false => {
+                self.accelerator.relax(&mut values);
+            }
+        }
+        self.converged = converged;
+        self.send(outputs, presence)?;
+        Ok(converged)
+    }
+
+    fn send(&mut self, outputs: &mut Outputs, presence: &Presence) -> Result<(), ExchangeError> {
+        for (i, sample) in self.held.drain(..) {
+            outputs.send(i, sample, presence)?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,148 @@
+//! `[coupling] scheme` and `[coupling.implicit]`: whether windows are taken
+//! again until the interface converges, and how (the participant library's
+//! `scheme.rs` and PROTOCOL.md, "Implicit coupling").
+
+use crate::check::Checker;
+use serde::{Deserialize, Serialize};
+
+/// The interface fields accelerated by default: those the fluid reads at
+/// a window's start, written by the structure and the rigid bodies at its
+/// end.
+pub const DEFAULT_ACCELERATED: [&str; 3] = ["canopy.positions", "canopy.velocities", "body.states"];
+/// Default convergence limit ‖r‖₂ ≤ relative·‖x‖₂ per accelerated field.
+pub const DEFAULT_RELATIVE: f64 = 1e-5;
+/// Default ω: constant relaxation's, Aitken's first.
+pub const DEFAULT_RELAXATION: f64 = 0.5;
+/// Default most tries per window.
+pub const DEFAULT_MAX_ITERATIONS: u32 = 50;
+/// Most tries per window a scenario may ask for.
+pub const MAX_ITERATIONS: f64 = 10_000.0;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SchemeName {
+    #[default]
+    Explicit,
+    Implicit,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AccelerationName {
+    Constant,
+    #[default]
+    Aitken,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OnMax {
+    /// Stop the run, naming the window, field and residual.
+    #[default]
+    Stop,
+    /// Go on to the next window with a warning.
+    GoOn,
+}
+
+/// `[coupling.implicit]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImplicitSection {
+    #[serde(default)]
+    pub acceleration: AccelerationName,
+    /// ω of constant relaxation; Aitken's first ω in each window.
+    #[serde(default = "relaxation")]
+    pub relaxation: f64,
+    /// The fields relaxed and measured (by their protocol names).
+    #[serde(default = "accelerated")]
+    pub accelerate: Vec<String>,
+    /// Convergence: ‖r‖₂ ≤ relative·‖x‖₂ or ‖r‖₂ ≤ absolute, per field;
+    /// with neither given, relative = [`DEFAULT_RELATIVE`].
+    #[serde(default)]
+    pub relative: Option<f64>,
+    #[serde(default)]
+    pub absolute: Option<f64>,
+    #[serde(default = "one")]
+    pub min_iterations: u32,
+    #[serde(default = "max_iterations")]
+    pub max_iterations: u32,
+    #[serde(default)]
+    pub on_max: OnMax,
+}
+
+impl Default for ImplicitSection {
+    fn default() -> Self {
+        ImplicitSection {
+            acceleration: AccelerationName::default(),
+            relaxation: DEFAULT_RELAXATION,
+            accelerate: accelerated(),
+            relative: None,
+            absolute: None,
+            min_iterations: 1,
+            max_iterations: DEFAULT_MAX_ITERATIONS,
+            on_max: OnMax::default(),
+        }
+    }
+}
+
+impl ImplicitSection {
+    /// The relative and absolute limits, the default where neither is given.
+    pub fn limits(&self) -> (Option<f64>, Option<f64>) {
+        match (self.relative, self.absolute) {
+            (None, None) => (Some(DEFAULT_RELATIVE), None),
+            limits => limits,
+        }
+    }
+
+    pub fn check(&self, c: &mut Checker) {
+        let at = |key: &'static str| ["coupling", "implicit", key];
+        let w = self.relaxation;
+        if !(w.is_finite() && w > 0.0 && w <= 2.0) {
+            c.problem(
+                &at("relaxation"),
+                format!("relaxation = {w} must lie in (0, 2]: ω ≤ 0 never moves, ω > 2 overshoots"),
+            );
+        }
+        if let Some(r) = self.relative {
+            c.positive(&at("relative"), r, "");
+        }
+        if let Some(a) = self.absolute {
+            c.positive(&at("absolute"), a, "");
+        }
+        c.nonzero(&at("min_iterations"), self.min_iterations as f64);
+        c.nonzero(&at("max_iterations"), self.max_iterations as f64);
+        c.at_most(
+            &at("max_iterations"),
+            self.max_iterations as f64,
+            MAX_ITERATIONS,
+        );
+        if self.min_iterations > self.max_iterations {
+            c.problem(
+                &at("min_iterations"),
+                format!(
+                    "min_iterations = {} is above max_iterations = {}",
+                    self.min_iterations, self.max_iterations
+                ),
+            );
+        }
+        if self.accelerate.is_empty() {
+            c.problem(
+                &at("accelerate"),
+                "accelerate lists no field: implicit coupling needs a field to converge".into(),
+            );
+        }
+    }
+}
+
+fn relaxation() -> f64 {
+    DEFAULT_RELAXATION
+}
+fn accelerated() -> Vec<String> {
+    DEFAULT_ACCELERATED.iter().map(|s| s.to_string()).collect()
+}
+fn one() -> u32 {
+    1
+}
+fn max_iterations() -> u32 {
+    DEFAULT_MAX_ITERATIONS
+}
