@@ -7,7 +7,10 @@
 //! Aitken's ω (Irons & Tuck 1969; Küttler & Wall 2008, eq. 44) is the
 //! secant step along the last two residuals,
 //! ω_k = −ω_{k−1} · r_{k−1}·(r_k − r_{k−1}) / ‖r_k − r_{k−1}‖².
+//! IQN-ILS (`iqn_ils.rs`) replaces ω by a least-squares model of the
+//! inverse Jacobian built from the tries of this and the last windows.
 
+use crate::iqn_ils::{Columns, Limits};
 use crate::scheme::Acceleration;
 
 /// The writer's iteration state over one window.
@@ -16,11 +19,18 @@ pub struct Accelerator {
     kind: Acceleration,
     /// x̃_k: what was last sent, all accelerated fields end to end.
     sent: Vec<f64>,
-    /// r_{k−1} (Aitken).
+    /// r_{k−1} (Aitken, IQN-ILS).
     last_residual: Vec<f64>,
+    /// x_{k−1}, the solvers' last answer (IQN-ILS).
+    last_answer: Vec<f64>,
     omega: f64,
     /// Tries of this window so far.
     k: u32,
+    /// IQN-ILS's columns, and the windows begun.
+    columns: Columns,
+    window: u64,
+    /// Columns the last relaxation used (0: a plain ω).
+    pub columns_used: usize,
 }
 
 /// Norms of one field's residual and value, ‖r‖₂ and ‖x‖₂.
@@ -36,14 +46,20 @@ impl Accelerator {
             kind,
             sent: Vec::new(),
             last_residual: Vec::new(),
+            last_answer: Vec::new(),
             omega: 0.0,
             k: 0,
+            columns: Columns::default(),
+            window: 0,
+            columns_used: 0,
         }
     }
 
-    /// A new window begins: its first value is relaxed with the initial ω.
+    /// A new window begins: its first value is relaxed with the initial ω,
+    /// or by IQN-ILS with the columns of the windows before.
     pub fn start_window(&mut self) {
         self.k = 0;
+        self.window += 1;
     }
 
     /// How many values were last sent.
@@ -82,8 +98,12 @@ impl Accelerator {
     }
 
     /// Relax `values` (x_k in, x̃_{k+1} out, in place) and remember them as
-    /// sent. Returns the ω used.
-    pub fn relax(&mut self, values: &mut [&mut [f64]]) -> f64 {
+    /// sent.
+    pub fn relax(&mut self, values: &mut [&mut [f64]]) {
+        if let Acceleration::IqnIls { .. } = self.kind {
+            return self.quasi_newton(values);
+        }
+        self.columns_used = 0;
         let omega = self.omega_for(values);
         let mut at = 0;
         for v in values.iter_mut() {
@@ -95,13 +115,62 @@ impl Accelerator {
         }
         self.omega = omega;
         self.k += 1;
-        omega
+    }
+
+    /// IQN-ILS: x̃_{k+1} = x_k + W c, or x̃_k + ω₀ r_k with no column yet.
+    fn quasi_newton(&mut self, values: &mut [&mut [f64]]) {
+        let Acceleration::IqnIls {
+            initial,
+            reused_windows,
+            max_columns,
+            filter,
+        } = self.kind
+        else {
+            unreachable!("called for IQN-ILS")
+        };
+        let limits = Limits {
+            reused_windows,
+            max_columns,
+            filter,
+        };
+        let x: Vec<f64> = values.iter().flat_map(|v| v.iter().copied()).collect();
+        let r: Vec<f64> = x.iter().zip(&self.sent).map(|(x, s)| x - s).collect();
+        self.columns.fit(x.len());
+        if self.k > 0 && self.last_answer.len() == x.len() {
+            let dr = r.iter().zip(&self.last_residual).map(|(a, b)| a - b);
+            let dx = x.iter().zip(&self.last_answer).map(|(a, b)| a - b);
+            self.columns
+                .push(dr.collect(), dx.collect(), self.window, limits);
+        }
+        let next: Vec<f64> = match self.columns.step(&r, filter) {
+            Some((step, used)) => {
+                self.columns_used = used;
+                x.iter().zip(&step).map(|(x, s)| x + s).collect()
+            }
+            None => {
+                self.columns_used = 0;
+                self.sent
+                    .iter()
+                    .zip(&r)
+                    .map(|(s, r)| s + initial * r)
+                    .collect()
+            }
+        };
+        let mut at = 0;
+        for v in values.iter_mut() {
+            v.copy_from_slice(&next[at..at + v.len()]);
+            at += v.len();
+        }
+        self.sent = next;
+        (self.last_residual, self.last_answer) = (r, x);
+        self.k += 1;
     }
 
     /// This try's ω; keeps r_k for the next (Aitken).
     fn omega_for(&mut self, values: &[&mut [f64]]) -> f64 {
         match self.kind {
             Acceleration::Constant { omega } => omega,
+            Acceleration::IqnIls { .. } => unreachable!("IQN-ILS has no ω"),
             Acceleration::Aitken { initial } => {
                 let residual = values
                     .iter()
@@ -169,5 +238,16 @@ mod tests {
         assert!(exact[0] < 1e-14, "{exact:?}");
         let aitken = iterate(Acceleration::Aitken { initial: 0.1 }, 2);
         assert!(aitken[1] < 1e-12, "{aitken:?}");
+        // One unknown: IQN-ILS's one column is the same secant.
+        let iqn = iterate(
+            Acceleration::IqnIls {
+                initial: 0.1,
+                reused_windows: 0,
+                max_columns: 10,
+                filter: 1e-2,
+            },
+            2,
+        );
+        assert!(iqn[1] < 1e-12, "{iqn:?}");
     }
 }

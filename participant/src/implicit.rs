@@ -6,10 +6,32 @@
 
 use crate::acceleration::{Accelerator, Norms};
 use crate::channel::FieldLoan;
+use crate::declaration::Declaration;
 use crate::error::ExchangeError;
 use crate::fields::Outputs;
+use crate::monitors::Monitor;
 use crate::presence::Presence;
-use crate::scheme::{Implicit, Measured};
+use crate::scheme::{Implicit, Measured, COLUMNS, RESIDUAL, TRIES};
+
+/// `declaration` with the implicit monitors of a participant that is the
+/// run's `first` or not.
+pub fn with_monitors(declaration: Declaration, settings: &Implicit, first: bool) -> Declaration {
+    let written: Vec<String> = settings
+        .fields
+        .iter()
+        .filter(|m| declaration.writes.iter().any(|w| w.name == m.field))
+        .map(|m| format!("{RESIDUAL}{}", m.field))
+        .collect();
+    let mut names = Vec::new();
+    if first {
+        names.push(TRIES.to_string());
+    }
+    if !written.is_empty() {
+        names.extend(written);
+        names.push(COLUMNS.to_string());
+    }
+    declaration.monitors(names)
+}
 
 pub struct Tries {
     pub settings: Implicit,
@@ -53,6 +75,25 @@ impl Tries {
                 unconverged.then_some((i, n.residual, n.value))
             })
             .max_by(|a, b| (a.1 / a.2).total_cmp(&(b.1 / b.2)))
+    }
+
+    /// The implicit monitors' values for a window that took `tries`.
+    pub fn monitors(&self, tries: u32, first: bool) -> Vec<Monitor> {
+        let mut m = Vec::new();
+        if first {
+            m.push(Monitor::new(TRIES, tries as f64));
+        }
+        for (field, n) in &self.last {
+            let relative = match n.value > 0.0 {
+                true => n.residual / n.value,
+                false => n.residual,
+            };
+            m.push(Monitor::new(format!("{RESIDUAL}{field}"), relative));
+        }
+        if !self.accelerated.is_empty() {
+            m.push(Monitor::new(COLUMNS, self.accelerator.columns_used as f64));
+        }
+        m
     }
 
     pub fn is_accelerated(&self, output: usize) -> bool {

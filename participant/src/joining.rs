@@ -143,6 +143,11 @@ impl Joining {
     /// coupler connects them, and wait until every participant is ready.
     /// Returns the running participant, whose first command is `Initialize`.
     pub fn declare(self, declaration: Declaration) -> Result<Participant, JoinError> {
+        let first = self.setup.participants.first() == Some(&self.name);
+        let declaration = match self.setup.scheme.implicit() {
+            Some(i) => crate::implicit::with_monitors(declaration, i, first),
+            None => declaration,
+        };
         if let Some(problem) = declaration.problem() {
             let _ = self.control.send(&FromParticipant::Failed {
                 reason: format!("declaration: {problem}"),

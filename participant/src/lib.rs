@@ -22,6 +22,7 @@ mod declaration;
 mod error;
 mod fields;
 mod implicit;
+mod iqn_ils;
 mod joining;
 mod matching;
 mod monitors;

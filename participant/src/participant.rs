@@ -268,6 +268,11 @@ impl Participant {
             waited = waiting.elapsed();
             self.plan.decide(again);
             if !again {
+                let first = self.setup.participants.first() == Some(&self.name);
+                let tries = self.tries.as_ref().expect("an implicit plan has tries");
+                self.rows
+                    .update(&tries.monitors(iteration + 1, first))
+                    .map_err(ExchangeError::UndeclaredMonitor)?;
                 self.rows.push_row();
                 self.send_rows(false)?;
             }

@@ -14,6 +14,16 @@
 
 use serde::{Deserialize, Serialize};
 
+/// The monitors the library adds to an implicit run's declarations, which
+/// the coupler gathers into `iterations.csv`: the tries each window took
+/// (on the run's first participant: every participant takes as many); per
+/// accelerated field, on its writer, the last try's relative residual
+/// ‖r‖₂/‖x‖₂ (`RESIDUAL` + the field's name); and the IQN-ILS columns the
+/// writer's last relaxation used.
+pub const TRIES: &str = "implicit.tries";
+pub const RESIDUAL: &str = "implicit.residual.";
+pub const COLUMNS: &str = "implicit.columns";
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub enum Scheme {
     #[default]
@@ -75,4 +85,13 @@ pub enum Acceleration {
     /// Aitken's dynamic ω (Küttler & Wall 2008, eq. 44), starting each
     /// window at `initial`.
     Aitken { initial: f64 },
+    /// IQN-ILS (Degroote et al. 2009): `initial` ω while it has no column,
+    /// the columns of the last `reused_windows` windows, at most
+    /// `max_columns`, filtered by QR2 with limit `filter`.
+    IqnIls {
+        initial: f64,
+        reused_windows: u32,
+        max_columns: u32,
+        filter: f64,
+    },
 }

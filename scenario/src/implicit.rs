@@ -11,10 +11,16 @@ use serde::{Deserialize, Serialize};
 pub const DEFAULT_ACCELERATED: [&str; 3] = ["canopy.positions", "canopy.velocities", "body.states"];
 /// Default convergence limit ‖r‖₂ ≤ relative·‖x‖₂ per accelerated field.
 pub const DEFAULT_RELATIVE: f64 = 1e-5;
-/// Default ω: constant relaxation's, Aitken's first.
-pub const DEFAULT_RELAXATION: f64 = 0.5;
+/// Default ω: constant relaxation's, Aitken's first, IQN-ILS's before it
+/// has a column.
+pub const DEFAULT_RELAXATION: f64 = 0.1;
 /// Default most tries per window.
 pub const DEFAULT_MAX_ITERATIONS: u32 = 50;
+/// IQN-ILS defaults: windows whose columns are reused, most columns, and
+/// the QR2 filter's limit (Haelterman et al. 2016).
+pub const DEFAULT_REUSED_WINDOWS: u32 = 8;
+pub const DEFAULT_MAX_COLUMNS: u32 = 50;
+pub const DEFAULT_FILTER: f64 = 1e-2;
 /// Most tries per window a scenario may ask for.
 pub const MAX_ITERATIONS: f64 = 10_000.0;
 
@@ -30,8 +36,10 @@ pub enum SchemeName {
 #[serde(rename_all = "lowercase")]
 pub enum AccelerationName {
     Constant,
-    #[default]
     Aitken,
+    #[default]
+    #[serde(rename = "iqn-ils")]
+    IqnIls,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -68,6 +76,16 @@ pub struct ImplicitSection {
     pub max_iterations: u32,
     #[serde(default)]
     pub on_max: OnMax,
+    /// IQN-ILS: windows whose columns are reused besides the current one.
+    #[serde(default = "reused_windows")]
+    pub reused_windows: u32,
+    /// IQN-ILS: most columns kept.
+    #[serde(default = "max_columns")]
+    pub max_columns: u32,
+    /// IQN-ILS: the QR2 filter's limit, a column dropped when its part
+    /// independent of the newer ones is below this fraction of its norm.
+    #[serde(default = "filter")]
+    pub filter: f64,
 }
 
 impl Default for ImplicitSection {
@@ -81,6 +99,9 @@ impl Default for ImplicitSection {
             min_iterations: 1,
             max_iterations: DEFAULT_MAX_ITERATIONS,
             on_max: OnMax::default(),
+            reused_windows: DEFAULT_REUSED_WINDOWS,
+            max_columns: DEFAULT_MAX_COLUMNS,
+            filter: DEFAULT_FILTER,
         }
     }
 }
@@ -125,6 +146,19 @@ impl ImplicitSection {
                 ),
             );
         }
+        c.nonzero(&at("max_columns"), self.max_columns as f64);
+        c.at_most(&at("max_columns"), self.max_columns as f64, MAX_ITERATIONS);
+        c.at_most(
+            &at("reused_windows"),
+            self.reused_windows as f64,
+            MAX_ITERATIONS,
+        );
+        if !(self.filter.is_finite() && self.filter > 0.0 && self.filter < 1.0) {
+            c.problem(
+                &at("filter"),
+                format!("filter = {} must lie in (0, 1)", self.filter),
+            );
+        }
         if self.accelerate.is_empty() {
             c.problem(
                 &at("accelerate"),
@@ -145,4 +179,13 @@ fn one() -> u32 {
 }
 fn max_iterations() -> u32 {
     DEFAULT_MAX_ITERATIONS
+}
+fn reused_windows() -> u32 {
+    DEFAULT_REUSED_WINDOWS
+}
+fn max_columns() -> u32 {
+    DEFAULT_MAX_COLUMNS
+}
+fn filter() -> f64 {
+    DEFAULT_FILTER
 }

@@ -163,6 +163,10 @@ impl Watch<'_> {
                     .add(p, &self.names[p], first_row, rows, width, values)?;
                 if self.monitors.complete_rows() > 0 {
                     let r = self.monitors.written - 1;
+                    if r > 0 && self.monitors.total_tries > 0.0 {
+                        let m = &self.monitors;
+                        progress.set_tries(m.last_tries, m.total_tries / r as f64);
+                    }
                     progress.update(self.monitors.time_of(r), r);
                 }
             }

@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod checks;
 pub mod coupling;
+pub mod iterations;
 pub mod manifest;
 pub mod monitors;
 pub mod programs;
@@ -197,6 +198,12 @@ pub fn scheme(s: &Scenario) -> Scheme {
             },
             AccelerationName::Aitken => Acceleration::Aitken {
                 initial: i.relaxation,
+            },
+            AccelerationName::IqnIls => Acceleration::IqnIls {
+                initial: i.relaxation,
+                reused_windows: i.reused_windows,
+                max_columns: i.max_columns,
+                filter: i.filter,
             },
         },
         min_iterations: i.min_iterations,

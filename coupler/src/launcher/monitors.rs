@@ -32,6 +32,11 @@ pub struct Monitors {
     /// (participant, column) of every `kinetic_energy` and `potential_energy`.
     kinetic: Vec<(usize, usize)>,
     potential: Vec<(usize, usize)>,
+    /// (participant, column) of the tries per window of an implicit run.
+    tries: Option<(usize, usize)>,
+    /// The last window's tries and their sum over the windows.
+    pub last_tries: f64,
+    pub total_tries: f64,
     timing: Timing,
     /// Rows written so far.
     pub written: u64,
@@ -58,13 +63,14 @@ impl Monitors {
         timing: &Timing,
     ) -> Result<Monitors, MonitorsError> {
         let mut header = String::from("time,kinetic_energy,potential_energy");
-        let (mut kinetic, mut potential) = (Vec::new(), Vec::new());
+        let (mut kinetic, mut potential, mut tries) = (Vec::new(), Vec::new(), None);
         for (p, (name, d)) in names.iter().zip(declarations).enumerate() {
             for (c, m) in d.monitor_names().iter().enumerate() {
                 header.push_str(&format!(",{name}.{m}"));
                 match m.as_str() {
                     "kinetic_energy" => kinetic.push((p, c)),
                     "potential_energy" => potential.push((p, c)),
+                    participant::scheme::TRIES => tries = Some((p, c)),
                     _ => {}
                 }
             }
@@ -100,6 +106,9 @@ impl Monitors {
                 .collect(),
             kinetic,
             potential,
+            tries,
+            last_tries: f64::NAN,
+            total_tries: 0.0,
             timing: *timing,
             written: 0,
         })
@@ -150,6 +159,10 @@ impl Monitors {
         let mut n = 0;
         while self.parts.iter().all(|p| !p.pending.is_empty()) {
             let line = self.line();
+            if let (Some((p, c)), true) = (self.tries, self.written > 0) {
+                self.last_tries = self.parts[p].pending[0][c];
+                self.total_tries += self.last_tries;
+            }
             for p in &mut self.parts {
                 p.pending.pop_front();
             }
@@ -182,22 +195,55 @@ impl Monitors {
         }
     }
 
-    /// Write the buffered rows. If the write fails (a full disk), the file
-    /// is cut back to its last whole row, so it stays readable.
+    /// Write the buffered rows, in pieces of whole rows. If a write fails
+    /// (a full disk), the file is cut back to its last whole row, so it
+    /// stays readable and keeps every row that fitted, however many were
+    /// buffered at once.
     pub fn flush(&mut self) -> Result<(), MonitorsError> {
-        if self.buffer.is_empty() {
-            return Ok(());
-        }
-        match self.file.write_all(self.buffer.as_bytes()) {
-            Ok(()) => {
-                self.length += self.buffer.len() as u64;
-                self.buffer.clear();
-                Ok(())
+        while !self.buffer.is_empty() {
+            let piece = whole_rows(&self.buffer, FLUSH_PIECE);
+            match self.file.write_all(&self.buffer.as_bytes()[..piece]) {
+                Ok(()) => {
+                    self.length += piece as u64;
+                    self.buffer.drain(..piece);
+                }
+                Err(e) => {
+                    let _ = self.file.set_len(self.length);
+                    return Err(self.io(e));
+                }
             }
-            Err(e) => {
-                let _ = self.file.set_len(self.length);
-                Err(self.io(e))
-            }
         }
+        Ok(())
+    }
+}
+
+/// Bytes of rows written at once (at least one whole row).
+const FLUSH_PIECE: usize = 64 << 10;
+
+/// The length of the longest run of whole rows of `buffer` within `most`
+/// bytes, or of its first row if that is longer.
+fn whole_rows(buffer: &str, most: usize) -> usize {
+    if buffer.len() <= most {
+        return buffer.len();
+    }
+    let bytes = buffer.as_bytes();
+    let within = bytes[..most].iter().rposition(|&b| b == b'\n');
+    let first = bytes.iter().position(|&b| b == b'\n');
+    within.or(first).map_or(buffer.len(), |i| i + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::whole_rows;
+
+    /// A piece ends after a row's newline, within the limit, or after the
+    /// first row if even that is longer.
+    #[test]
+    fn pieces_are_whole_rows() {
+        let buffer = "0.1,2\n0.2,3\n0.3,4\n";
+        assert_eq!(whole_rows(buffer, 100), buffer.len());
+        assert_eq!(whole_rows(buffer, 13), 12);
+        assert_eq!(whole_rows(buffer, 11), 6);
+        assert_eq!(whole_rows(buffer, 3), 6);
     }
 }

@@ -14,6 +14,8 @@ pub struct Progress {
     started: Instant,
     last: Instant,
     bar: Option<ProgressBar>,
+    /// Implicit coupling: the last window's tries and their mean so far.
+    tries: Option<(f64, f64)>,
 }
 
 impl Progress {
@@ -36,7 +38,13 @@ impl Progress {
             started: now,
             last: now,
             bar,
+            tries: None,
         }
+    }
+
+    /// The last window's tries and the mean over the windows so far.
+    pub fn set_tries(&mut self, last: f64, mean: f64) {
+        self.tries = Some((last, mean));
     }
 
     fn line(&self, t: f64, steps: u64) -> String {
@@ -48,8 +56,12 @@ impl Progress {
         } else {
             f64::NAN
         };
+        let tries = match self.tries {
+            Some((last, mean)) => format!(", {last:.0} tries/window (mean {mean:.2})"),
+            None => String::new(),
+        };
         format!(
-            "t = {t:.4}/{:.4} s, {rate:.0} windows/s, ETA {eta:.0} s",
+            "t = {t:.4}/{:.4} s, {rate:.0} windows/s{tries}, ETA {eta:.0} s",
             self.t_end
         )
     }

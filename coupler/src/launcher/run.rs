@@ -2,6 +2,7 @@
 //! supervise, and leave a run directory.
 
 use super::coupling::{self, CouplingError, Shared};
+use super::iterations::Iterations;
 use super::manifest::manifest;
 use super::programs::Program;
 use super::progress::Progress;
@@ -75,7 +76,12 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
         End::Refused(_) => ("refused", EXIT_BAD_INPUT),
         End::Interrupted => ("interrupted", EXIT_INTERRUPTED),
     };
-    let manifest = manifest(&checked, &run_id, &end, &children, status, started);
+    let iterations = Iterations::gather(&run_dir.join("monitors.csv"));
+    if let Some(Err(e)) = iterations.as_ref().map(|i| i.write(&run_dir)) {
+        eprintln!("warning: cannot write iterations.csv or iterations.png: {e}");
+    }
+    let mut manifest = manifest(&checked, &run_id, &end, &children, status, started);
+    manifest["implicit"] = iterations.map_or(serde_json::Value::Null, |i| i.summary());
     let _ = std::fs::write(
         run_dir.join("manifest.json"),
         serde_json::to_string_pretty(&manifest).unwrap_or_default(),
