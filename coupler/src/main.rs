@@ -61,6 +61,16 @@ enum BenchCmd {
         #[arg(long)]
         no_scenes: bool,
     },
+    /// An implicit window's cost against an explicit one's on a scene both
+    /// run, and the share of checkpoints and relaxation.
+    Implicit {
+        /// The scene (default scenarios/sheet-updraft.toml).
+        #[arg(long, default_value = "scenarios/sheet-updraft.toml")]
+        scene: PathBuf,
+        /// Runs of each scheme; the fastest is kept.
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+    },
 }
 
 #[derive(Subcommand)]
@@ -123,6 +133,9 @@ fn main() {
             }
             launcher::bench::exchange(rounds.max(10), &scenes)
         }
+        Cmd::Bench {
+            what: BenchCmd::Implicit { scene, repeats },
+        } => launcher::bench::implicit(&scene, repeats.max(1)),
         Cmd::Study { args } => launcher::study::study(&args),
         Cmd::BenchPeer { peer } => match peer {
             PeerCmd::Library { rounds } => launcher::bench::library_peer(rounds),

@@ -476,6 +476,7 @@ impl Participant {
     /// declared monitors. At the start and at every window end a row of
     /// `monitors.csv` is closed with the newest value of each.
     pub fn done(&mut self, monitors: Vec<Monitor>) -> Result<(), ExchangeError> {
+        let solver = self.clock.back.elapsed();
         let entered = self.clock.enter();
         let Some(command) = self.pending.take() else {
             return Err(ExchangeError::Misuse(
@@ -492,12 +493,19 @@ impl Participant {
             }
             (Command::SaveCheckpoint, Some(tries)) => {
                 tries.start_window();
+                self.clock.stats.checkpoint_s += solver.as_secs_f64();
+                false
+            }
+            (Command::RestoreCheckpoint, _) => {
+                self.clock.stats.checkpoint_s += solver.as_secs_f64();
                 false
             }
             // The row closes once the verdict lets the window go on.
             (Command::Advance(a), Some(tries)) if a.window_end => {
                 let presence = &self.waiter.presence;
+                let relaxing = Instant::now();
                 let converged = tries.close_try(&mut self.outputs, presence)?;
+                self.clock.stats.accelerate_s += relaxing.elapsed().as_secs_f64();
                 let word = verdict::word(a.window, a.iteration, converged);
                 presence.own().post_word(word, tries.worst());
                 presence.wake_all_sleeping()?;

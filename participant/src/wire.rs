@@ -80,6 +80,12 @@ pub struct Stats {
     pub reads: u64,
     /// Internal sub-steps taken, as counted by the solver.
     pub substeps: u64,
+    /// Implicit coupling: seconds the solver took to save and restore its
+    /// window checkpoints (part of `compute_s`), and seconds the library
+    /// took to measure and relax the accelerated fields (part of
+    /// `exchange_s`).
+    pub checkpoint_s: f64,
+    pub accelerate_s: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

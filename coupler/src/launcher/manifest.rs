@@ -99,6 +99,8 @@ fn coupling_json(o: &coupling::Outcome) -> serde_json::Value {
         "latency_s": latency,
         "reads": o.stats.iter().map(|(_, s)| s.reads).sum::<u64>(),
         "exchange_share": (exchange + latency) / o.run_s,
+        "checkpoint_s": sum(|s| s.checkpoint_s),
+        "accelerate_s": sum(|s| s.accelerate_s),
     })
 }
 

@@ -20,11 +20,13 @@
 //! one cache line from core to core ([`floor`]), measured in the same run.
 
 mod floor;
+mod implicit;
 mod library;
 mod pingpong;
 mod raw;
 mod socket;
 
+pub use implicit::implicit;
 pub use library::peer as library_peer;
 pub use raw::peer as copy_peer;
 pub use socket::peer as socket_peer;
@@ -125,7 +127,9 @@ fn print_table(table: &[(&str, Vec<Times>)]) {
 
 /// Run `scene` through `coupler run` and read where its wall time went;
 /// `floor_us` is the cache-line round trip.
-fn scene_share(exe: &Path, scene: &Path, floor_us: f64) -> Result<String, String> {
+/// Run `scene` with the coupler `exe` into a scratch directory, removed
+/// after; its manifest, or why the run failed.
+pub(super) fn run_manifest(exe: &Path, scene: &Path) -> Result<serde_json::Value, String> {
     let dir = std::env::temp_dir().join(format!(
         "canopy-bench-{}",
         participant::supervisor::new_run_id()
@@ -142,10 +146,14 @@ fn scene_share(exe: &Path, scene: &Path, floor_us: f64) -> Result<String, String
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
     let _ = std::fs::remove_dir_all(&dir);
-    let m = match (status.success(), manifest) {
-        (true, Some(m)) => m,
-        _ => return Err("the run failed".into()),
-    };
+    match (status.success(), manifest) {
+        (true, Some(m)) => Ok(m),
+        _ => Err("the run failed".into()),
+    }
+}
+
+fn scene_share(exe: &Path, scene: &Path, floor_us: f64) -> Result<String, String> {
+    let m = run_manifest(exe, scene)?;
     let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
     let c = &m["coupling"];
     let reads = c["reads"].as_u64().unwrap_or(0);
