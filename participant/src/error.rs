@@ -57,6 +57,13 @@ pub enum ExchangeError {
         tries: u32,
         detail: String,
     },
+    #[error(
+        "field `{0}` is written before the window's end, so it cannot be accelerated: \
+         implicit coupling relaxes a field once a try, at its end (take it out of \
+         `[coupling.implicit] accelerate`, or exchange it once a window, \
+         e.g. impulse_substeps = 1)"
+    )]
+    AcceleratedMidWindow(String),
     #[error("monitor `{0}` was not declared")]
     UndeclaredMonitor(String),
     #[error("{0}")]

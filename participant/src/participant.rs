@@ -385,10 +385,7 @@ impl Participant {
                 _ => false,
             };
             if !at_end {
-                return Err(ExchangeError::Misuse(
-                    "an accelerated field (`[coupling.implicit] accelerate`) is written only \
-                     at a window's end or at Initialize",
-                ));
+                return Err(ExchangeError::AcceleratedMidWindow(field.to_string()));
             }
             // Sent when the try is done (`done`), relaxed.
             if let Some((sample, computed)) = self.outputs.fill(i, len, fill)? {
