@@ -12,7 +12,7 @@
 //! 3. the pressure jump on each triangle is read side by side through the
 //!    local index coating (`coating.rs`, §3.3.2) and sent to the structure.
 
-use crate::surface::{pieces, Marker};
+use crate::surface::{pieces_as, Cuts, Marker};
 use nalgebra::Point3;
 use porous::Porous;
 
@@ -25,11 +25,46 @@ pub fn sheet_markers(
     triangles: &[[usize; 3]],
     spacing: f64,
 ) -> (Vec<Marker>, Vec<[f64; 3]>) {
+    sheet_markers_cut(x, v, triangles, spacing, &mut SheetCuts::default())
+}
+
+/// How every triangle of the canopy was cut at a window's first try, to be
+/// cut alike at the window's repeats under implicit coupling
+/// (`surface::Cuts` says why).
+#[derive(Debug, Clone, Default)]
+pub struct SheetCuts {
+    recorded: Vec<u8>,
+    /// Cut as recorded rather than by the edges' lengths.
+    pub replay: bool,
+}
+
+/// [`sheet_markers`], the triangles cut as `cuts` recorded when it
+/// replays, else by their lengths, recorded.
+pub fn sheet_markers_cut(
+    x: &[f64],
+    v: &[f64],
+    triangles: &[[usize; 3]],
+    spacing: f64,
+    cuts: &mut SheetCuts,
+) -> (Vec<Marker>, Vec<[f64; 3]>) {
     let mut markers = Vec::new();
     let mut velocities = Vec::new();
+    let mut how = match cuts.replay && !cuts.recorded.is_empty() {
+        true => Cuts::Replay {
+            from: &cuts.recorded,
+            at: 0,
+        },
+        false => {
+            cuts.recorded.clear();
+            Cuts::Choose {
+                spacing,
+                into: Some(&mut cuts.recorded),
+            }
+        }
+    };
     for t in triangles {
         let corners = t.map(|i| Point3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]));
-        pieces(corners, spacing, &mut |(w, m)| {
+        pieces_as(corners, &mut how, &mut |(w, m)| {
             markers.push(m);
             velocities.push([0, 1, 2].map(|d| (0..3).map(|j| w[j] * v[3 * t[j] + d]).sum()));
         });

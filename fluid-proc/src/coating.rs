@@ -161,56 +161,41 @@ impl Coating {
         t: &[usize; 3],
         s: i8,
     ) -> Option<f64> {
-        let q = corners(x, t);
-        let n = (q[1] - q[0]).cross(&(q[2] - q[0])).try_normalize(1e-300)?;
-        let c = Point3::from((q[0].coords + q[1].coords + q[2].coords) / 3.0);
+        let mut cells = Vec::new();
+        self.side_cells(grid, x, t, s, &mut cells);
+        fit(grid, p, x, t, &cells)
+    }
+
+    /// The cells side `s` of triangle `t` reads its pressure from, into `out`.
+    fn side_cells(&self, grid: &Grid, x: &[f64], t: &[usize; 3], s: i8, out: &mut Vec<Cell>) {
+        let Some((c, n)) = centre_normal(x, t) else {
+            return;
+        };
         let h = grid.spacing_range().1;
-        let thin: Vec<usize> = (0..3).filter(|&d| grid.n[d] == 1).collect();
-        // Least squares of p ≈ p̄ + g·(x − x̄) about the cells' centroid x̄,
-        // offsets in spacings; a 2-D flow has no gradient along its thin axis.
-        let mut sum_r = Vector3::<f64>::zeros();
-        let mut sum_rr = Matrix3::<f64>::zeros();
-        let mut sum_rp = Vector3::<f64>::zeros();
-        let mut sum_p = 0.0;
-        let mut count = 0;
         let cc = c.coords.into();
         for_cells_near(grid, cc, cc, FAR.hypot(ASIDE) * h, |cell, centre| {
             if self.side[cell] != s {
                 return;
             }
-            let mut r: Vector3<f64> = (centre - c) / h;
-            for &d in &thin {
-                r[d] = 0.0;
-            }
+            let r = offset(grid, centre, c);
             let off = r.dot(&n) * s as f64;
             let aside = (r - n * r.dot(&n)).norm();
-            if !(NEAR..=FAR).contains(&off) || aside > ASIDE {
-                return;
+            if (NEAR..=FAR).contains(&off) && aside <= ASIDE {
+                out.push((cell as u32, centre));
             }
-            sum_r += r;
-            sum_rr += r * r.transpose();
-            sum_rp += r * p[cell];
-            sum_p += p[cell];
-            count += 1;
         });
-        let dims = 3 - thin.len();
-        if count < dims + 1 {
-            return None;
+    }
+
+    /// The cells every triangle's two sides read, as [`jumps`](Self::jumps) chooses them.
+    pub fn select(&self, grid: &Grid, x: &[f64], triangles: &[[usize; 3]]) -> Selection {
+        let mut sel = Selection::default();
+        for t in triangles {
+            for s in [-1, 1] {
+                self.side_cells(grid, x, t, s, &mut sel.cells);
+                sel.ends.push(sel.cells.len());
+            }
         }
-        let k = count as f64;
-        let (mean_r, mean_p) = (sum_r / k, sum_p / k);
-        let spread = sum_rr - mean_r * sum_r.transpose();
-        let covary = sum_rp - mean_r * sum_p;
-        // Directions the cells hardly spread along (a 2-D flow's thin axis)
-        // get no gradient: the pseudo-inverse. Cells that do not spread
-        // along the normal cannot be extrapolated to the sheet: none.
-        let svd = spread.svd(true, true);
-        let cutoff = 1e-2 * svd.singular_values.max();
-        if !(n.dot(&(spread * n)) > cutoff) {
-            return None;
-        }
-        let g = svd.solve(&covary, cutoff).ok()?;
-        Some(mean_p - g.dot(&mean_r))
+        sel
     }
 
     /// The jump p⁻ − p⁺ across every triangle [Pa] into `out`; 0 where a
@@ -224,15 +209,112 @@ impl Coating {
         triangles: &[[usize; 3]],
         out: &mut [f64],
     ) {
-        for (t, o) in triangles.iter().zip(out.iter_mut()) {
-            let minus = self.side_pressure(grid, p, x, t, -1);
-            let plus = self.side_pressure(grid, p, x, t, 1);
-            *o = match (minus, plus) {
+        let selection = self.select(grid, x, triangles);
+        selection.jumps(grid, p, x, triangles, out);
+    }
+}
+
+/// The cells each side of each triangle reads its pressure from. Implicit
+/// coupling keeps a window's first choice for its repeats: chosen again at
+/// positions a little apart, a cell entering or leaving a side's band
+/// would change the jump by a step, and the iteration would stall on it.
+#[derive(Debug, Clone, Default)]
+pub struct Selection {
+    cells: Vec<Cell>,
+    /// Where each (triangle, side)'s cells end in `cells`: −1 then +1.
+    ends: Vec<usize>,
+}
+
+impl Selection {
+    /// The jump p⁻ − p⁺ across every triangle [Pa] into `out`, from these
+    /// cells and the triangles where `x` puts them.
+    pub fn jumps(
+        &self,
+        grid: &Grid,
+        p: &[f64],
+        x: &[f64],
+        triangles: &[[usize; 3]],
+        out: &mut [f64],
+    ) {
+        for (k, (t, o)) in triangles.iter().zip(out.iter_mut()).enumerate() {
+            let side = |j: usize| {
+                let from = if j == 0 { 0 } else { self.ends[j - 1] };
+                fit(grid, p, x, t, self.cells.get(from..self.ends[j])?)
+            };
+            *o = match (side(2 * k), side(2 * k + 1)) {
                 (Some(below), Some(above)) => below - above,
                 _ => 0.0,
             };
         }
     }
+
+    /// Whether it was chosen for `triangles` triangles.
+    pub fn fits(&self, triangles: usize) -> bool {
+        self.ends.len() == 2 * triangles
+    }
+}
+
+/// A cell a side reads: its index, and its centre where it lies next to
+/// the triangle (a periodic image's, across a periodic side).
+type Cell = (u32, Point3<f64>);
+
+/// Triangle `t`'s centre and unit normal (of its vertex order).
+fn centre_normal(x: &[f64], t: &[usize; 3]) -> Option<(Point3<f64>, Vector3<f64>)> {
+    let q = corners(x, t);
+    let n = (q[1] - q[0]).cross(&(q[2] - q[0])).try_normalize(1e-300)?;
+    Some((
+        Point3::from((q[0].coords + q[1].coords + q[2].coords) / 3.0),
+        n,
+    ))
+}
+
+/// A cell centre's offset from `c` in spacings; none along a 2-D flow's
+/// thin axis.
+fn offset(grid: &Grid, centre: Point3<f64>, c: Point3<f64>) -> Vector3<f64> {
+    let h = grid.spacing_range().1;
+    let mut r: Vector3<f64> = (centre - c) / h;
+    for d in (0..3).filter(|&d| grid.n[d] == 1) {
+        r[d] = 0.0;
+    }
+    r
+}
+
+/// The pressure at triangle `t`'s centre from the least-squares plane
+/// p ≈ p̄ + g·(x − x̄) through `cells` (offsets in spacings, about their
+/// centroid x̄); None with too few cells, or cells that do not spread
+/// along the normal.
+fn fit(grid: &Grid, p: &[f64], x: &[f64], t: &[usize; 3], cells: &[Cell]) -> Option<f64> {
+    let (c, n) = centre_normal(x, t)?;
+    let mut sum_r = Vector3::<f64>::zeros();
+    let mut sum_rr = Matrix3::<f64>::zeros();
+    let mut sum_rp = Vector3::<f64>::zeros();
+    let mut sum_p = 0.0;
+    for &(cell, centre) in cells {
+        let cell = cell as usize;
+        let r = offset(grid, centre, c);
+        sum_r += r;
+        sum_rr += r * r.transpose();
+        sum_rp += r * p[cell];
+        sum_p += p[cell];
+    }
+    let dims = (0..3).filter(|&d| grid.n[d] > 1).count();
+    if cells.len() < dims + 1 {
+        return None;
+    }
+    let k = cells.len() as f64;
+    let (mean_r, mean_p) = (sum_r / k, sum_p / k);
+    let spread = sum_rr - mean_r * sum_r.transpose();
+    let covary = sum_rp - mean_r * sum_p;
+    // Directions the cells hardly spread along (a 2-D flow's thin axis)
+    // get no gradient: the pseudo-inverse. Cells that do not spread
+    // along the normal cannot be extrapolated to the sheet: none.
+    let svd = spread.svd(true, true);
+    let cutoff = 1e-2 * svd.singular_values.max();
+    if !(n.dot(&(spread * n)) > cutoff) {
+        return None;
+    }
+    let g = svd.solve(&covary, cutoff).ok()?;
+    Some(mean_p - g.dot(&mean_r))
 }
 
 #[cfg(test)]

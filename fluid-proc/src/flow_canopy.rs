@@ -3,9 +3,9 @@
 //! them, and the pressure jump on each sent back (`canopy.rs`,
 //! `immersed.rs` and `coating.rs` do the physics).
 
-use crate::canopy::{porous_law, sheet_markers};
+use crate::canopy::{porous_law, sheet_markers_cut, SheetCuts};
 use crate::clearance::keep_clear;
-use crate::coating::Coating;
+use crate::coating::{Coating, Selection};
 use crate::grid::Grid;
 use crate::immersed::ImmersedBody;
 use crate::incompressible::Incompressible;
@@ -25,6 +25,14 @@ pub struct FlowCanopy {
     /// The vertices where they were last placed, in the box's frame [m].
     x: Vec<f64>,
     jumps: Vec<f64>,
+    /// How the triangles were cut into markers at the window's first try;
+    /// under implicit coupling its repeats cut them alike.
+    cuts: SheetCuts,
+    /// The cells the jumps were read from at the window's first try; its
+    /// repeats read the same (`coating::Selection`).
+    read: Selection,
+    replay_read: bool,
+    implicit: bool,
 }
 
 impl FlowCanopy {
@@ -39,7 +47,19 @@ impl FlowCanopy {
             origin,
             x: Vec::new(),
             jumps: Vec::new(),
+            cuts: SheetCuts::default(),
+            read: Selection::default(),
+            replay_read: false,
+            implicit: false,
         }
+    }
+
+    /// An implicit window begins: its first try cuts the triangles by
+    /// their lengths, its repeats as the first did.
+    pub fn new_window(&mut self) {
+        self.implicit = true;
+        self.cuts.replay = false;
+        self.replay_read = false;
     }
 
     /// Whether the connectivity, which the structure sends once, is still
@@ -95,7 +115,10 @@ impl FlowCanopy {
                 ));
             }
         }
-        let (markers, velocities) = sheet_markers(&self.x, v, triangles, g.spacing_range().0);
+        let spacing = g.spacing_range().0;
+        let (markers, velocities) =
+            sheet_markers_cut(&self.x, v, triangles, spacing, &mut self.cuts);
+        self.cuts.replay = self.implicit;
         keep_clear(g, &markers, self.origin, "the canopy")?;
         let canopy = flow.canopy.get_or_insert_with(ImmersedBody::default);
         canopy.porous = self.law;
@@ -109,8 +132,11 @@ impl FlowCanopy {
     pub fn jumps(&mut self, g: &Grid, pressure: &[f64]) -> &[f64] {
         let triangles = self.triangles.as_deref().unwrap_or(&[]);
         self.jumps.resize(triangles.len(), 0.0);
-        let coating = Coating::new(g, &self.x, triangles);
-        coating.jumps(g, pressure, &self.x, triangles, &mut self.jumps);
+        if !(self.replay_read && self.read.fits(triangles.len())) {
+            self.read = Coating::new(g, &self.x, triangles).select(g, &self.x, triangles);
+        }
+        self.replay_read = self.implicit;
+        (self.read).jumps(g, pressure, &self.x, triangles, &mut self.jumps);
         &self.jumps
     }
 

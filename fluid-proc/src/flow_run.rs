@@ -185,6 +185,9 @@ fn run(
     let mut steps = 0u64;
     loop {
         let command = p.next_command().map_err(|e| Stopped::before_order(c, e))?;
+        if command == Command::SaveCheckpoint {
+            canopy.new_window();
+        }
         if let Command::Advance(_) = command {
             let flow = &mut f.flow;
             if let Err(e) = place(p, &mut bodies, &mut canopy, with_canopy, flow) {

@@ -137,23 +137,79 @@ const EDGE_SLACK: f64 = 1e-6;
 /// `spacing` (`EDGE_SLACK`), and calls `f` with each piece's centroid (as barycentric
 /// coordinates in abc) and its marker (normal by the vertex order).
 pub fn pieces([a, b, c]: [Point3<f64>; 3], spacing: f64, f: &mut impl FnMut(Piece)) {
-    let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    split([a, b, c], corners, spacing, f);
+    pieces_as(
+        [a, b, c],
+        &mut Cuts::Choose {
+            spacing,
+            into: None,
+        },
+        f,
+    );
 }
 
-fn split(p: [Point3<f64>; 3], w: [[f64; 3]; 3], spacing: f64, f: &mut impl FnMut(Piece)) {
+/// How a triangle is cut: chosen from its edges' lengths (and recorded, in
+/// depth-first order: the edge cut, or [`WHOLE`]), or as recorded before.
+/// Implicit coupling places the canopy again at each try of a window, at
+/// positions a little apart; cut by their lengths, a triangle whose edge
+/// lies near `spacing` would be cut one way in one try and another way in
+/// the next, a jump in the forcing that stalls the iteration. Cut as in the
+/// window's first try, the markers move smoothly with the vertices.
+pub enum Cuts<'a> {
+    Choose {
+        spacing: f64,
+        into: Option<&'a mut Vec<u8>>,
+    },
+    Replay {
+        from: &'a [u8],
+        at: usize,
+    },
+}
+
+/// A recorded piece left whole.
+pub const WHOLE: u8 = 3;
+
+/// [`pieces`], cut as `cuts` says.
+pub fn pieces_as([a, b, c]: [Point3<f64>; 3], cuts: &mut Cuts, f: &mut impl FnMut(Piece)) {
+    let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    split([a, b, c], corners, cuts, f);
+}
+
+impl Cuts<'_> {
+    /// The edge to cut next (0: ab, 1: bc, 2: ca), or [`WHOLE`].
+    fn next(&mut self, edges: [f64; 3]) -> u8 {
+        match self {
+            Cuts::Choose { spacing, into } => {
+                let longest = (0..3)
+                    .max_by(|&i, &j| edges[i].total_cmp(&edges[j]))
+                    .unwrap_or(0);
+                let cut = match edges[longest] > *spacing * (1.0 + EDGE_SLACK) {
+                    true => longest as u8,
+                    false => WHOLE,
+                };
+                if let Some(into) = into {
+                    into.push(cut);
+                }
+                cut
+            }
+            Cuts::Replay { from, at } => {
+                *at += 1;
+                from.get(*at - 1).copied().unwrap_or(WHOLE)
+            }
+        }
+    }
+}
+
+fn split(p: [Point3<f64>; 3], w: [[f64; 3]; 3], cuts: &mut Cuts, f: &mut impl FnMut(Piece)) {
     let [a, b, c] = p;
     let edges = [(b - a).norm(), (c - b).norm(), (a - c).norm()];
-    let longest = (0..3)
-        .max_by(|&i, &j| edges[i].total_cmp(&edges[j]))
-        .unwrap_or(0);
-    if edges[longest] > spacing * (1.0 + EDGE_SLACK) {
-        // Rotate so the longest edge is the first, then cut it at its middle.
-        let (i, j, k) = (longest, (longest + 1) % 3, (longest + 2) % 3);
+    let cut = cuts.next(edges);
+    if cut != WHOLE {
+        // Rotate so the cut edge is the first, then cut it at its middle.
+        let (i, j, k) = (cut as usize, (cut as usize + 1) % 3, (cut as usize + 2) % 3);
         let m = Point3::from((p[i].coords + p[j].coords) * 0.5);
         let wm = [0, 1, 2].map(|d| 0.5 * (w[i][d] + w[j][d]));
-        split([p[i], m, p[k]], [w[i], wm, w[k]], spacing, f);
-        split([m, p[j], p[k]], [wm, w[j], w[k]], spacing, f);
+        split([p[i], m, p[k]], [w[i], wm, w[k]], cuts, f);
+        split([m, p[j], p[k]], [wm, w[j], w[k]], cuts, f);
         return;
     }
     let cross: Vector3<f64> = (b - a).cross(&(c - a));
