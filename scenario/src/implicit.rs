@@ -70,6 +70,9 @@ pub struct ImplicitSection {
     pub relative: Option<f64>,
     #[serde(default)]
     pub absolute: Option<f64>,
+    /// Limits of single fields, in place of `relative` and `absolute`.
+    #[serde(default)]
+    pub field: Vec<FieldLimits>,
     #[serde(default = "one")]
     pub min_iterations: u32,
     #[serde(default = "max_iterations")]
@@ -88,6 +91,38 @@ pub struct ImplicitSection {
     pub filter: f64,
 }
 
+/// `[[coupling.implicit.field]]`: one accelerated field's own limits.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FieldLimits {
+    pub name: String,
+    #[serde(default)]
+    pub relative: Option<f64>,
+    #[serde(default)]
+    pub absolute: Option<f64>,
+}
+
+impl FieldLimits {
+    fn check(&self, c: &mut Checker, accelerated: &[String]) {
+        if !accelerated.contains(&self.name) {
+            c.problem(
+                &["name"],
+                format!(
+                    "field `{}` is not accelerated (accelerate = {accelerated:?}), so it takes \
+                     no limits",
+                    self.name
+                ),
+            );
+        }
+        if let Some(r) = self.relative {
+            c.positive(&["relative"], r, "");
+        }
+        if let Some(a) = self.absolute {
+            c.positive(&["absolute"], a, "");
+        }
+    }
+}
+
 impl Default for ImplicitSection {
     fn default() -> Self {
         ImplicitSection {
@@ -96,6 +131,7 @@ impl Default for ImplicitSection {
             accelerate: accelerated(),
             relative: None,
             absolute: None,
+            field: Vec::new(),
             min_iterations: 1,
             max_iterations: DEFAULT_MAX_ITERATIONS,
             on_max: OnMax::default(),
@@ -107,9 +143,12 @@ impl Default for ImplicitSection {
 }
 
 impl ImplicitSection {
-    /// The relative and absolute limits, the default where neither is given.
-    pub fn limits(&self) -> (Option<f64>, Option<f64>) {
-        match (self.relative, self.absolute) {
+    /// The relative and absolute limits of accelerated field `name`: its
+    /// own, else the section's, else the default relative limit.
+    pub fn limits(&self, name: &str) -> (Option<f64>, Option<f64>) {
+        let own = self.field.iter().find(|f| f.name == name);
+        let given = own.map_or((self.relative, self.absolute), |f| (f.relative, f.absolute));
+        match given {
             (None, None) => (Some(DEFAULT_RELATIVE), None),
             limits => limits,
         }
@@ -159,6 +198,13 @@ impl ImplicitSection {
                 format!("filter = {} must lie in (0, 1)", self.filter),
             );
         }
+        for (i, f) in self.field.iter().enumerate() {
+            c.within("coupling", None, |c| {
+                c.within("implicit", None, |c| {
+                    c.within("field", Some(i), |c| f.check(c, &self.accelerate))
+                })
+            });
+        }
         if self.accelerate.is_empty() {
             c.problem(
                 &at("accelerate"),
@@ -188,4 +234,28 @@ fn max_columns() -> u32 {
 }
 fn filter() -> f64 {
     DEFAULT_FILTER
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A field's own limits replace the section's; a field without any
+    /// takes the default relative limit.
+    #[test]
+    fn a_field_takes_its_own_limits_else_the_sections_else_the_default() {
+        let mut s = ImplicitSection {
+            absolute: Some(1e-8),
+            field: vec![FieldLimits {
+                name: "canopy.velocities".into(),
+                relative: Some(1e-4),
+                absolute: None,
+            }],
+            ..Default::default()
+        };
+        assert_eq!(s.limits("canopy.velocities"), (Some(1e-4), None));
+        assert_eq!(s.limits("canopy.positions"), (None, Some(1e-8)));
+        s.absolute = None;
+        assert_eq!(s.limits("canopy.positions"), (Some(DEFAULT_RELATIVE), None));
+    }
 }

@@ -181,15 +181,17 @@ pub fn scheme(s: &Scenario) -> Scheme {
     let Some(i) = s.coupling.implicit_settings() else {
         return Scheme::Explicit;
     };
-    let (relative, absolute) = i.limits();
     Scheme::Implicit(Implicit {
         fields: i
             .accelerate
             .iter()
-            .map(|f| Measured {
-                field: f.clone(),
-                relative,
-                absolute,
+            .map(|f| {
+                let (relative, absolute) = i.limits(f);
+                Measured {
+                    field: f.clone(),
+                    relative,
+                    absolute,
+                }
             })
             .collect(),
         acceleration: match i.acceleration {

@@ -232,6 +232,19 @@ const CASES: &[Case] = &[
         line_of: Some("relaxation = 3.0"),
     },
     Case {
+        name: "limits-of-a-field-not-accelerated",
+        edit: |t| {
+            let with = "impulse_substeps = 4     # impulse exchange every structure sub-step";
+            let implicit = "scheme = \"implicit\"\n\n[coupling.implicit]\naccelerate = \
+                            [\"attachment.state\"]\n\n[[coupling.implicit.field]]\n\
+                            name = \"canopy.positions\"\nrelative = 1e-6";
+            replace(t, with, &format!("{with}\n{implicit}"))
+        },
+        key: Some("coupling.implicit.field[0].name"),
+        says: "is not accelerated",
+        line_of: Some("name = \"canopy.positions\""),
+    },
+    Case {
         name: "syntax-error",
         edit: |t| replace(t, "end_time = 10.0", "end_time = = 10.0"),
         key: None,
