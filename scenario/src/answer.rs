@@ -34,6 +34,22 @@ pub struct Answer {
     /// `checked.<participant>` (for example the stability estimate).
     #[serde(default, skip_serializing_if = "toml::Table::is_empty")]
     pub manifest: toml::Table,
+    /// Whether the program, run on this scenario, saves and restores window
+    /// checkpoints (what `[coupling] scheme = "implicit"` needs, and what
+    /// its declaration then says with `checkpoints()`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub checkpoints: bool,
+}
+
+impl Answer {
+    /// An answer saying only that the program saves and restores window
+    /// checkpoints.
+    pub fn with_checkpoints() -> Answer {
+        Answer {
+            checkpoints: true,
+            ..Default::default()
+        }
+    }
 }
 
 impl Answer {

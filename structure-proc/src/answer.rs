@@ -21,7 +21,8 @@ pub fn answer<S: Stepper>(
 ) -> Result<Answer, ScenarioError> {
     let scene = Scene::load(path, text, program)?;
     let section = &scene.structure;
-    let mut answer = Answer::default();
+    // Every structure stepper saves and restores window checkpoints.
+    let mut answer = Answer::with_checkpoints();
     answer
         .manifest
         .insert("integrator".into(), section.integrator.name().into());

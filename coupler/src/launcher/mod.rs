@@ -48,7 +48,35 @@ pub struct Checked {
 pub fn load_checked(path: &Path) -> Result<Checked, Vec<String>> {
     let mut checked = load_coupling(path).map_err(|e| vec![e.to_string()])?;
     checked.answers = checks::ask_all(&mut checked.programs, path)?;
+    refuse_implicit_without_checkpoints(&checked).map_err(|e| vec![e.to_string()])?;
     Ok(checked)
+}
+
+/// `scheme = "implicit"` takes windows again from checkpoints: every
+/// program must say in its `--check` answer that it saves them.
+fn refuse_implicit_without_checkpoints(checked: &Checked) -> Result<(), ScenarioError> {
+    if checked.scenario.coupling.implicit_settings().is_none() {
+        return Ok(());
+    }
+    let unable: Vec<&str> = (checked.answers.iter())
+        .filter(|(_, a)| !a.checkpoints)
+        .map(|(name, _)| name.as_str())
+        .collect();
+    if unable.is_empty() {
+        return Ok(());
+    }
+    let message = format!(
+        "scheme = \"implicit\" takes windows again from their checkpoints, and the \
+         program of `{}` does not save and restore them (its `--check` answer says so): \
+         use scheme = \"explicit\"",
+        unable.join("`, `")
+    );
+    Err(ScenarioError::at_key(
+        &checked.path,
+        &checked.text,
+        &["coupling", "scheme"],
+        message,
+    ))
 }
 
 /// The coupling part of the scenario, and its programs found.

@@ -25,6 +25,13 @@ fn sod_with(from: &str, to: &str) -> String {
 
 pub const CASES: &[Case] = &[
     Case {
+        name: "implicit-with-the-euler-model",
+        edit: |_| sod_with("[coupling]\n", "[coupling]\nscheme = \"implicit\"\n"),
+        key: Some("coupling.scheme"),
+        says: "the program of `fluid` does not save and restore them",
+        line_of: Some("scheme = \"implicit\""),
+    },
+    Case {
         name: "flow-huge-box-bound",
         edit: |_| cavity_with("upper = [1.0, 1.0,", "upper = [1e308, 1.0,"),
         key: Some("fluid.box.upper"),
