@@ -96,6 +96,36 @@ impl Tries {
         m
     }
 
+    /// The worst unconverged field of each participant in `unconverged`, with
+    /// its residual and writer.
+    pub fn unconverged_detail(
+        &self,
+        unconverged: &[usize],
+        me: usize,
+        names: &[String],
+        presence: &Presence,
+    ) -> String {
+        let fields = &self.settings.fields;
+        let parts: Vec<String> = unconverged
+            .iter()
+            .map(|&p| {
+                let worst = match p == me {
+                    true => self.worst(),
+                    false => presence.worst(p),
+                };
+                match worst {
+                    Some((i, r, x)) => format!(
+                        "field `{}` of `{}`: residual {r:.3e} against a value of {x:.3e}",
+                        fields.get(i).map_or("?", |f| f.field.as_str()),
+                        names[p]
+                    ),
+                    None => format!("a field of `{}`", names[p]),
+                }
+            })
+            .collect();
+        parts.join("; ")
+    }
+
     pub fn is_accelerated(&self, output: usize) -> bool {
         self.accelerated.iter().any(|(i, _)| *i == output)
     }

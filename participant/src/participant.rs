@@ -131,36 +131,6 @@ impl Clock {
     }
 }
 
-/// The worst unconverged field of each participant in `unconverged`, with
-/// its residual and writer.
-fn unconverged_detail(
-    tries: &Tries,
-    unconverged: &[usize],
-    me: usize,
-    names: &[String],
-    presence: &crate::presence::Presence,
-) -> String {
-    let fields = &tries.settings.fields;
-    let parts: Vec<String> = unconverged
-        .iter()
-        .map(|&p| {
-            let worst = match p == me {
-                true => tries.worst(),
-                false => presence.worst(p),
-            };
-            match worst {
-                Some((i, r, x)) => format!(
-                    "field `{}` of `{}`: residual {r:.3e} against a value of {x:.3e}",
-                    fields.get(i).map_or("?", |f| f.field.as_str()),
-                    names[p]
-                ),
-                None => format!("a field of `{}`", names[p]),
-            }
-        })
-        .collect();
-    parts.join("; ")
-}
-
 /// One solver's connection to a running coupled run. See the module docs.
 pub struct Participant {
     name: String,
@@ -346,7 +316,7 @@ impl Participant {
         if unconverged.is_empty() {
             return Ok(false);
         }
-        let detail = unconverged_detail(tries, &unconverged, me, names, presence);
+        let detail = tries.unconverged_detail(&unconverged, me, names, presence);
         if s.go_on_at_max {
             if !tries.converged {
                 eprintln!(
