@@ -172,25 +172,29 @@ fn run(
     p: &mut Participant,
     f: &mut Flow,
     section: &FluidSection,
-    mut bodies: FlowBodies,
+    bodies: FlowBodies,
     jump_monitor: bool,
     comm: Arc<dyn Comm>,
 ) -> Result<u64, Stopped> {
     let c = comm.as_ref();
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
-    let mut canopy = FlowCanopy::new(section, origin);
-    let with_canopy = p.is_connected(CANOPY_POSITIONS);
-    let mut loads = vec![0.0; 6 * f.flow.bodies.len()];
+    let mut io = Interface {
+        loads: vec![0.0; 6 * f.flow.bodies.len()],
+        bodies,
+        canopy: FlowCanopy::new(section, origin),
+        with_canopy: p.is_connected(CANOPY_POSITIONS),
+        jump_monitor,
+    };
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
     loop {
         let command = p.next_command().map_err(|e| Stopped::before_order(c, e))?;
         if command == Command::SaveCheckpoint {
-            canopy.new_window();
+            io.canopy.new_window();
         }
         if let Command::Advance(_) = command {
             let flow = &mut f.flow;
-            if let Err(e) = place(p, &mut bodies, &mut canopy, with_canopy, flow) {
+            if let Err(e) = io.place(p, flow) {
                 let msg = format!("at t = {} s: {e}", flow.time);
                 return Err(Stopped::before_order(c, fail(p, msg)));
             }
@@ -205,46 +209,26 @@ fn run(
             (_, Done::Stop) => break,
             (_, Done::Checkpoint) => p.done(Vec::new())?,
             (_, Done::Monitors(mut m)) => {
-                m.extend(bodies.monitors(flow, None));
-                if jump_monitor {
-                    m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
-                }
+                m.extend(io.monitors(flow, None));
                 p.done(m)?
             }
             (Command::Output { index, time }, Done::Output(Some((velocity, pressure)))) => {
                 let g = flow.grid();
-                let cell_data: Vec<(&str, usize, &[f64])> =
-                    vec![("velocity", 3, &velocity), ("pressure", 1, &pressure)];
-                let (spacing, cells) = (g.h, g.n);
                 let image = Image {
                     origin,
-                    spacing,
-                    cells,
-                    cell_data,
+                    spacing: g.h,
+                    cells: g.n,
+                    cell_data: vec![("velocity", 3, &velocity), ("pressure", 1, &pressure)],
                 };
                 series.write_image(index, time, &image)?;
                 p.done(Vec::new())?
             }
             (Command::Advance(a), Done::Advanced(mut m, n, pressure)) => {
                 steps += n;
-                if p.is_connected(BODY_LOADS) {
-                    // rigid-proc reads a load every window, bodies or none.
-                    bodies.take_loads(flow, &mut loads);
-                    p.write_field(BODY_LOADS, loads.len(), |out| out.copy_from_slice(&loads))?;
-                }
-                if p.is_connected(CANOPY_PRESSURE) {
-                    let pressure = pressure.as_deref().ok_or("the canopy is not in the flow")?;
-                    let jumps = canopy.jumps(flow.grid(), pressure);
-                    p.write_field(CANOPY_PRESSURE, jumps.len(), |out| {
-                        out.copy_from_slice(jumps)
-                    })?;
-                }
+                io.answer(p, flow, pressure.as_deref())?;
                 if a.window_end {
-                    let read = pressure.as_deref().map(|p| (&loads[..], p));
-                    m.extend(bodies.monitors(flow, read));
-                    if jump_monitor {
-                        m.push(Monitor::new("mean_pressure_jump", canopy.mean_jump()));
-                    }
+                    let read = pressure.as_deref().map(|p| (&io.loads[..], p));
+                    m.extend(io.monitors(flow, read));
                 }
                 p.done(m)?;
             }
@@ -254,27 +238,70 @@ fn run(
     Ok(steps)
 }
 
-/// Puts the bodies and the canopy where rigid-proc and the structure left
-/// them at the window's start.
-fn place(
-    p: &mut Participant,
-    bodies: &mut FlowBodies,
-    canopy: &mut FlowCanopy,
+/// What rank 0 reads from and answers to the other participants: the
+/// bodies and the canopy in the flow, and the bodies' loads.
+struct Interface {
+    bodies: FlowBodies,
+    canopy: FlowCanopy,
+    loads: Vec<f64>,
+    /// Whether a structure writes the canopy.
     with_canopy: bool,
-    flow: &mut Incompressible,
-) -> Result<(), Error> {
-    if p.is_connected(BODY_STATES) {
-        bodies.read(&p.read_field(BODY_STATES)?, flow)?;
-    }
-    if with_canopy {
-        if canopy.needs_triangles() {
-            canopy.set_triangles(&p.read_field(CANOPY_TRIANGLES)?);
+    /// Whether the canopy's mean jump is a monitor.
+    jump_monitor: bool,
+}
+
+impl Interface {
+    /// Puts the bodies and the canopy where rigid-proc and the structure
+    /// left them at the window's start.
+    fn place(&mut self, p: &mut Participant, flow: &mut Incompressible) -> Result<(), Error> {
+        if p.is_connected(BODY_STATES) {
+            self.bodies.read(&p.read_field(BODY_STATES)?, flow)?;
         }
-        let x = p.read_field(CANOPY_POSITIONS)?;
-        let v = p.read_field(CANOPY_VELOCITIES)?;
-        canopy.place(&x, &v, flow)?;
+        if self.with_canopy {
+            let canopy = &mut self.canopy;
+            if canopy.needs_triangles() {
+                canopy.set_triangles(&p.read_field(CANOPY_TRIANGLES)?);
+            }
+            let x = p.read_field(CANOPY_POSITIONS)?;
+            let v = p.read_field(CANOPY_VELOCITIES)?;
+            canopy.place(&x, &v, flow)?;
+        }
+        Ok(())
     }
-    Ok(())
+
+    /// The bodies' loads and the canopy's jumps, read from the box's
+    /// `pressure` [Pa] (gathered on rank 0), to their readers.
+    fn answer(
+        &mut self,
+        p: &mut Participant,
+        flow: &mut Incompressible,
+        pressure: Option<&[f64]>,
+    ) -> Result<(), Error> {
+        if p.is_connected(BODY_LOADS) {
+            // rigid-proc reads a load every window, bodies or none.
+            let loads = &mut self.loads;
+            self.bodies.take_loads(flow, loads);
+            p.write_field(BODY_LOADS, loads.len(), |out| out.copy_from_slice(loads))?;
+        }
+        if p.is_connected(CANOPY_PRESSURE) {
+            let pressure = pressure.ok_or("the canopy is not in the flow")?;
+            let jumps = self.canopy.jumps(flow.grid(), pressure);
+            p.write_field(CANOPY_PRESSURE, jumps.len(), |out| {
+                out.copy_from_slice(jumps)
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The bodies' monitors (from their `read` loads and pressure, if any)
+    /// and the canopy's mean jump.
+    fn monitors(&self, flow: &Incompressible, read: Option<(&[f64], &[f64])>) -> Vec<Monitor> {
+        let mut m = self.bodies.monitors(flow, read);
+        if self.jump_monitor {
+            m.push(Monitor::new("mean_pressure_jump", self.canopy.mean_jump()));
+        }
+        m
+    }
 }
 
 /// Tells the coupler the run failed with `msg` and gives it back as the

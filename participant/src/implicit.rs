@@ -163,7 +163,8 @@ impl Tries {
         self.held.sort_by_key(|(i, _)| *i);
         let values: Vec<&mut [f64]> = self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
         let total: usize = values.iter().map(|v| v.len()).sum();
-        let norms = match self.accelerator.sent_len() == total {
+        let comparable = self.accelerator.sent_len() == total;
+        let norms = match comparable {
             true => self.accelerator.norms(&values),
             // Nothing comparable was sent before: nothing to measure yet.
             false => vec![Norms::default(); values.len()],
@@ -182,7 +183,7 @@ impl Tries {
         }
         let mut values: Vec<&mut [f64]> =
             self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
-        match converged || self.accelerator.sent_len() != total {
+        match converged || !comparable {
             true => self.accelerator.sent_as_is(&mut values),
             false => {
                 self.accelerator.relax(&mut values);
