@@ -75,6 +75,24 @@ impl Bodies {
         }
     }
 
+    /// `loads` (one per body, or none) with the impulses `impulse` (3 per
+    /// attachment point, world axes) spread as constant forces over `dt`,
+    /// acting at the points where they are now: how a body takes the
+    /// structure's impulse when the two iterate each window
+    /// (`CouplingSection::bodies_iterate`).
+    pub fn with_impulses_as_forces(&self, impulse: &[f64], dt: f64, loads: &[Load]) -> Vec<Load> {
+        let mut out: Vec<Load> = (0..self.bodies.len())
+            .map(|i| loads.get(i).copied().unwrap_or_default())
+            .collect();
+        for (&(b, r), j) in self.attachments.iter().zip(impulse.chunks_exact(3)) {
+            let body = &self.bodies[b];
+            let f = Vector3::new(j[0], j[1], j[2]) / dt;
+            out[b].force += f;
+            out[b].torque += (body.world_point(&r) - body.state.x).cross(&f);
+        }
+        out
+    }
+
     /// Every body's state, [`STATE_LEN`] values per body.
     pub fn write_states(&self, out: &mut [f64]) {
         for (o, body) in out.chunks_exact_mut(STATE_LEN).zip(&self.bodies) {

@@ -131,6 +131,7 @@ pub fn run() -> Result<(), Error> {
         loads_window: None,
         steps: 0,
         checkpoint: Checkpoint::default(),
+        impulses_as_forces: scene.scenario.coupling.bodies_iterate(),
     };
     p.reporting(|p| d.drive(p))?;
     p.finish(d.steps)?;
@@ -148,6 +149,9 @@ struct Driven {
     steps: u64,
     /// The window's start, for implicit coupling to take it again.
     checkpoint: Checkpoint,
+    /// Whether the structure's impulses act as constant forces over the
+    /// step rather than as kicks at its start (`bodies_iterate`).
+    impulses_as_forces: bool,
 }
 
 impl Driven {
@@ -203,13 +207,24 @@ impl Driven {
             self.bodies.apply_momenta(&p.read_field(COLLISION_IMPULSE)?);
         }
         let h = step.dt / step.substeps as f64;
-        for k in 0..step.substeps {
-            // The impulse covers the whole step; apply it in the first sub-step.
-            let j = match k {
-                0 => impulse.as_deref().unwrap_or(&[]),
-                _ => &[],
-            };
-            self.bodies.step(h, j, &self.loads);
+        let impulse = impulse.as_deref().unwrap_or(&[]);
+        if self.impulses_as_forces {
+            // The impulse is the structure's force integrated along this
+            // try's path: spread over the step (`bodies_iterate`).
+            let loads = self
+                .bodies
+                .with_impulses_as_forces(impulse, step.dt, &self.loads);
+            for _ in 0..step.substeps {
+                self.bodies.step(h, &[], &loads);
+            }
+        } else {
+            for k in 0..step.substeps {
+                // The impulse covers the whole step; apply it in the first
+                // sub-step: with Euler–Cromer's impulse the coupled step is
+                // then symplectic Euler.
+                let j = if k == 0 { impulse } else { &[] };
+                self.bodies.step(h, j, &self.loads);
+            }
         }
         self.steps += step.substeps as u64;
         if let Some(name) = self.bodies.first_non_finite() {

@@ -9,6 +9,10 @@ use serde::{Deserialize, Serialize};
 /// a window's start, written by the structure and the rigid bodies at its
 /// end.
 pub const DEFAULT_ACCELERATED: [&str; 3] = ["canopy.positions", "canopy.velocities", "body.states"];
+/// Accelerated by default too when the structure and the bodies iterate
+/// each window (`CouplingSection::bodies_iterate`): the attachment points
+/// the structure reads at a window's start, written at its end.
+pub const BODIES_ITERATE_ACCELERATED: &str = "attachment.state";
 /// Default convergence limit ‖r‖₂ ≤ relative·‖x‖₂ per accelerated field.
 pub const DEFAULT_RELATIVE: f64 = 1e-5;
 /// Default ω: constant relaxation's, Aitken's first, IQN-ILS's before it
@@ -61,9 +65,10 @@ pub struct ImplicitSection {
     /// ω of constant relaxation; Aitken's first ω in each window.
     #[serde(default = "relaxation")]
     pub relaxation: f64,
-    /// The fields relaxed and measured (by their protocol names).
-    #[serde(default = "accelerated")]
-    pub accelerate: Vec<String>,
+    /// The fields relaxed and measured (by their protocol names); see
+    /// [`ImplicitSection::accelerated`] for the default.
+    #[serde(default)]
+    pub accelerate: Option<Vec<String>>,
     /// Convergence: ‖r‖₂ ≤ relative·‖x‖₂ or ‖r‖₂ ≤ absolute, per field;
     /// with neither given, relative = [`DEFAULT_RELATIVE`].
     #[serde(default)]
@@ -128,7 +133,7 @@ impl Default for ImplicitSection {
         ImplicitSection {
             acceleration: AccelerationName::default(),
             relaxation: DEFAULT_RELAXATION,
-            accelerate: accelerated(),
+            accelerate: None,
             relative: None,
             absolute: None,
             field: Vec::new(),
@@ -143,6 +148,19 @@ impl Default for ImplicitSection {
 }
 
 impl ImplicitSection {
+    /// The accelerated fields: `accelerate`, else [`DEFAULT_ACCELERATED`],
+    /// with [`BODIES_ITERATE_ACCELERATED`] when `bodies_iterate`.
+    pub fn accelerated(&self, bodies_iterate: bool) -> Vec<String> {
+        if let Some(given) = &self.accelerate {
+            return given.clone();
+        }
+        let mut fields: Vec<String> = DEFAULT_ACCELERATED.iter().map(|s| s.to_string()).collect();
+        if bodies_iterate {
+            fields.push(BODIES_ITERATE_ACCELERATED.to_string());
+        }
+        fields
+    }
+
     /// The relative and absolute limits of accelerated field `name`: its
     /// own, else the section's, else the default relative limit.
     pub fn limits(&self, name: &str) -> (Option<f64>, Option<f64>) {
@@ -154,7 +172,8 @@ impl ImplicitSection {
         }
     }
 
-    pub fn check(&self, c: &mut Checker) {
+    pub fn check(&self, c: &mut Checker, bodies_iterate: bool) {
+        let accelerated = self.accelerated(bodies_iterate);
         let at = |key: &'static str| ["coupling", "implicit", key];
         let w = self.relaxation;
         if !(w.is_finite() && w > 0.0 && w <= 2.0) {
@@ -201,11 +220,11 @@ impl ImplicitSection {
         for (i, f) in self.field.iter().enumerate() {
             c.within("coupling", None, |c| {
                 c.within("implicit", None, |c| {
-                    c.within("field", Some(i), |c| f.check(c, &self.accelerate))
+                    c.within("field", Some(i), |c| f.check(c, &accelerated))
                 })
             });
         }
-        if self.accelerate.is_empty() {
+        if accelerated.is_empty() {
             c.problem(
                 &at("accelerate"),
                 "accelerate lists no field: implicit coupling needs a field to converge".into(),
@@ -216,9 +235,6 @@ impl ImplicitSection {
 
 fn relaxation() -> f64 {
     DEFAULT_RELAXATION
-}
-fn accelerated() -> Vec<String> {
-    DEFAULT_ACCELERATED.iter().map(|s| s.to_string()).collect()
 }
 fn one() -> u32 {
     1
@@ -257,5 +273,19 @@ mod tests {
         assert_eq!(s.limits("canopy.positions"), (None, Some(1e-8)));
         s.absolute = None;
         assert_eq!(s.limits("canopy.positions"), (Some(DEFAULT_RELATIVE), None));
+    }
+
+    /// The default list closes the structure–body loop when it is iterated;
+    /// a given list is taken as it is.
+    #[test]
+    fn attachment_state_joins_the_default_when_the_bodies_iterate() {
+        let mut s = ImplicitSection::default();
+        assert_eq!(s.accelerated(false), DEFAULT_ACCELERATED);
+        assert_eq!(
+            s.accelerated(true).last().map(String::as_str),
+            Some(BODIES_ITERATE_ACCELERATED)
+        );
+        s.accelerate = Some(vec!["body.states".into()]);
+        assert_eq!(s.accelerated(true), ["body.states"]);
     }
 }

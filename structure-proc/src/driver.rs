@@ -14,6 +14,7 @@ use crate::forces::Loads;
 use crate::integrators::{Integrator, StepError};
 use crate::output::Output;
 use crate::stability::{omega_max, OMEGA_MAX_MONITOR};
+use crate::window_start::WindowStart;
 use crate::{build_model, Model, NodeKind};
 use nalgebra::Vector3;
 use participant::{Advance, Cadence, Command, Declaration, FieldView, Monitor, Participant};
@@ -223,6 +224,7 @@ pub fn run<S: Stepper>(
         pressure: None,
         pressure_window: None,
         saved: None,
+        window_start: WindowStart::new(scene.scenario.coupling.bodies_iterate()),
     };
     p.reporting(|p| d.drive(p))?;
     drop(d.pressure.take());
@@ -245,6 +247,8 @@ struct Driven<S> {
     pressure_window: Option<u64>,
     /// The window's start, for implicit coupling to take it again.
     saved: Option<Saved>,
+    /// The attachment points at the window's start, for its next try.
+    window_start: WindowStart,
 }
 
 /// What a window's start holds beyond the model and stepper
@@ -297,6 +301,7 @@ impl<S: Stepper> Driven<S> {
         self.stepper.save_history(&mut saved.checkpoint.history);
         saved.watch.clone_from(&self.watch);
         saved.collisions = self.obstacles.as_ref().map(|o| (o.impulses, o.received));
+        self.window_start.first = true;
     }
 
     fn restore(&mut self) {
@@ -310,6 +315,7 @@ impl<S: Stepper> Driven<S> {
         }
         // The window's pressure comes again with its next try.
         self.pressure_window = None;
+        self.window_start.first = true;
     }
 
     fn advance(&mut self, p: &mut Participant, step: &Advance) -> Result<(), Error> {
@@ -345,7 +351,7 @@ impl<S: Stepper> Driven<S> {
         }
         if p.is_connected(ATTACHMENT_STATE) {
             let state = p.read_field(ATTACHMENT_STATE)?;
-            self.m.set_attachments(&state);
+            self.window_start.place(&mut self.m, &state, step);
             for a in &self.m.attachments {
                 let speed = a.v0.iter().map(|c| c * c).sum::<f64>().sqrt();
                 self.watch.raise(speed, "the fastest rigid body");

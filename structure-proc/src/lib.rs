@@ -27,6 +27,7 @@ pub mod rectangle;
 pub mod rings;
 pub mod stability;
 pub mod system;
+pub mod window_start;
 
 pub use build::build_model;
 pub use integrators::{integrator, Integrator, StepError};

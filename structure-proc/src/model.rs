@@ -136,6 +136,20 @@ impl Model {
         self.place_attached();
     }
 
+    /// Set the attachment points to move over a step of `dt` along the
+    /// chord from their positions in `start` to those in `end` (both
+    /// position then velocity, 6 per attachment), and clear the impulses.
+    pub fn set_attachments_along(&mut self, start: &[f64], end: &[f64], dt: f64) {
+        let points = start.chunks_exact(6).zip(end.chunks_exact(6));
+        for (a, (s, e)) in self.attachments.iter_mut().zip(points) {
+            a.x0 = [s[0], s[1], s[2]];
+            a.v0 = [0, 1, 2].map(|c| (e[c] - s[c]) / dt);
+            a.tau = 0.0;
+            a.impulse = [0.0; 3];
+        }
+        self.place_attached();
+    }
+
     /// Move attached nodes to x0 + v0·τ.
     pub fn place_attached(&mut self) {
         for a in &self.attachments {

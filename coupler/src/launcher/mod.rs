@@ -211,7 +211,7 @@ pub fn scheme(s: &Scenario) -> Scheme {
     };
     Scheme::Implicit(Implicit {
         fields: i
-            .accelerate
+            .accelerated(s.coupling.bodies_iterate())
             .iter()
             .map(|f| {
                 let (relative, absolute) = i.limits(f);
