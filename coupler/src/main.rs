@@ -19,10 +19,15 @@ struct Cli {
 enum Cmd {
     /// Run a scenario: start its participants, couple them to the end time, write a run directory.
     Run {
-        scenario: PathBuf,
+        #[arg(required_unless_present = "restart")]
+        scenario: Option<PathBuf>,
         /// Run directory, new or empty (default: runs/<scene>-<run id>).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Go on with the stopped, failed or killed run in this directory
+        /// from its last complete run checkpoint (`[run] checkpoint_interval`).
+        #[arg(long, value_name = "RUN_DIR", conflicts_with_all = ["scenario", "out"])]
+        restart: Option<PathBuf>,
     },
     /// Check a scenario without running it, and estimate its stable structure step.
     Check { scenario: PathBuf },
@@ -118,7 +123,16 @@ fn main() {
         }
     };
     let code = match cli.command {
-        Cmd::Run { scenario, out } => launcher::run::run(&scenario, out),
+        Cmd::Run {
+            restart: Some(run_dir),
+            ..
+        } => launcher::run::restart(&run_dir),
+        Cmd::Run {
+            scenario: Some(scenario),
+            out,
+            ..
+        } => launcher::run::run(&scenario, out),
+        Cmd::Run { .. } => unreachable!("clap requires a scenario or --restart"),
         Cmd::Check { scenario } => launcher::check(&scenario),
         Cmd::Bench {
             what:

@@ -83,7 +83,7 @@ fn run_porous(joining: Joining, scenario: &Scene, section: &FluidSection) -> Res
     let model = Porous::new(&load.params());
     let bodies = scenario.rigid.as_ref().map_or(0, |r| r.bodies.len());
     // No flow goes round the bodies here: their states are not read.
-    let declared = declaration(bodies, false, vec!["mean_pressure_jump".into()]);
+    let declared = declaration(bodies, false, vec!["mean_pressure_jump".into()]).restarts();
     let mut p = joining.declare(declared)?;
     let windows = p.reporting(|p| porous_windows(p, &model, bodies))?;
     p.finish(windows)?;
@@ -98,10 +98,14 @@ fn porous_windows(p: &mut Participant, model: &Porous, bodies: usize) -> Result<
         match p.next_command()? {
             // No pressure exists before the first window; NaN marks it in monitors.csv.
             Command::Initialize => p.done(vec![Monitor::new("mean_pressure_jump", f64::NAN)])?,
-            // The jumps depend on the window's inputs alone: nothing to save.
-            Command::Output { .. } | Command::SaveCheckpoint | Command::RestoreCheckpoint => {
-                p.done(Vec::new())?
-            }
+            // The jumps depend on the window's inputs alone: nothing to
+            // save, to write or to read back (the canopy's triangles come
+            // again when a restarted run resumes).
+            Command::Output { .. }
+            | Command::SaveCheckpoint
+            | Command::RestoreCheckpoint
+            | Command::WriteCheckpoint { .. }
+            | Command::Resume { .. } => p.done(Vec::new())?,
             Command::Advance(_) => {
                 let m = porous_window(p, model, bodies, &mut triangles)?;
                 windows += 1;

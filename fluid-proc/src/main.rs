@@ -5,10 +5,13 @@ use fluid_section::Scene;
 fn main() {
     // `fluid-proc --check SCENARIO`: the [fluid] table, checked.
     // The incompressible and porous models save and restore window
-    // checkpoints (implicit coupling); the euler model does not yet.
+    // checkpoints (implicit coupling); the euler model does not yet. The
+    // porous model, which keeps no state, resumes a restarted run.
     scenario::answer_check(|path, text| {
+        use fluid_section::FluidModel;
         Scene::load(path, text).map(|s| scenario::Answer {
-            checkpoints: s.fluid.model != fluid_section::FluidModel::Euler,
+            checkpoints: s.fluid.model != FluidModel::Euler,
+            restarts: s.fluid.model == FluidModel::PorousFreeStream,
             ..Default::default()
         })
     });

@@ -43,6 +43,9 @@ impl Order {
             },
             Command::SaveCheckpoint => Order::Checkpoint { restore: false },
             Command::RestoreCheckpoint => Order::Checkpoint { restore: true },
+            Command::WriteCheckpoint { .. } | Command::Resume { .. } => {
+                unreachable!("the incompressible model declares no run checkpoints yet")
+            }
             Command::Stop => Order::Stop,
         }
     }

@@ -81,7 +81,7 @@ fn area2(x: &[V3], t: &[usize; 3]) -> V3 {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     scenario::answer_check(|path, text| {
-        load(path, text).map(|_| scenario::Answer::with_checkpoints())
+        load(path, text).map(|_| scenario::Answer::with_restarts())
     });
     let joining = participant::connect()?;
     let s = load(joining.scenario_path(), joining.scenario())?;
@@ -103,7 +103,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .writes("canopy.velocities", 3, n)
             .reads("canopy.pressure") // a fluid must take part
             .monitors(["kinetic_energy", "centre_deflection"])
-            .checkpoints(), // it can take a window again: implicit coupling works
+            .checkpoints() // it can take a window again: implicit coupling works
+            .restarts(), // and write its state to disk: run checkpoints work
     )?;
     let (mut v, mut jump) = (vec![[0.0; 3]; n], vec![0.0; tris.len()]);
     let mut saved = (x.clone(), v.clone()); // the window's start, for implicit coupling
@@ -115,8 +116,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         p.done(vec![Monitor::new("kinetic_energy", ke), Monitor::new("centre_deflection", centre)])
     };
     loop {
-        match p.next_command()? {
-            Command::Initialize => {
+        let command = p.next_command()?;
+        match command {
+            Command::Initialize | Command::Resume { .. } => {
+                if let Command::Resume { window } = command {
+                    (x, v) = participant::restart::read(&p.state_file(window))?;
+                }
                 let flat: Vec<f64> = tris.concat().iter().map(|&i| i as f64).collect();
                 p.write_field("canopy.triangles", flat.len(), |o| o.copy_from_slice(&flat))?;
                 window_end(&mut p, &x, &v)?;
@@ -151,6 +156,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             Command::RestoreCheckpoint => {
                 (x, v) = saved.clone();
+                p.done(vec![])?
+            }
+            Command::WriteCheckpoint { window } => {
+                participant::restart::write(&p.state_file(window), &(&x, &v))?;
                 p.done(vec![])?
             }
             Command::Output { .. } => p.done(vec![])?,

@@ -14,7 +14,7 @@ use crate::iqn_ils::{Columns, Limits};
 use crate::scheme::Acceleration;
 
 /// The writer's iteration state over one window.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Accelerator {
     kind: Acceleration,
     /// x̃_k: what was last sent, all accelerated fields end to end.

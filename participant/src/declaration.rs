@@ -21,6 +21,9 @@ use serde::{Deserialize, Serialize};
 /// What a participant that saves and restores window checkpoints declares
 /// it supports.
 pub const CHECKPOINTS: &str = "checkpoints";
+/// What a participant that writes run checkpoints and resumes from them
+/// declares it supports.
+pub const RESTARTS: &str = "restarts";
 
 /// A field a participant publishes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -51,7 +54,9 @@ pub struct Declaration {
     pub reads: Vec<Read>,
     pub monitors: Vec<String>,
     /// Optional commands the participant supports: [`CHECKPOINTS`] for
-    /// `SaveCheckpoint` and `RestoreCheckpoint`, which implicit coupling needs.
+    /// `SaveCheckpoint` and `RestoreCheckpoint`, which implicit coupling
+    /// needs; [`RESTARTS`] for `WriteCheckpoint` and `Resume`, which run
+    /// checkpoints and `coupler run --restart` need.
     pub supports: Vec<String>,
 }
 
@@ -123,6 +128,19 @@ impl Declaration {
 
     pub fn supports_checkpoints(&self) -> bool {
         self.supports.iter().any(|s| s == CHECKPOINTS)
+    }
+
+    /// Writes what the run needs to go on into files on `WriteCheckpoint`
+    /// and reads them back on `Resume`, in place of `Initialize`, so that
+    /// a stopped run can be restarted: the restarted run must give the
+    /// same outputs as the whole run, bit for bit.
+    pub fn restarts(mut self) -> Self {
+        self.supports.push(RESTARTS.to_string());
+        self
+    }
+
+    pub fn supports_restarts(&self) -> bool {
+        self.supports.iter().any(|s| s == RESTARTS)
     }
 
     pub fn monitor_names(&self) -> &[String] {

@@ -64,6 +64,8 @@ pub enum ExchangeError {
          e.g. impulse_substeps = 1)"
     )]
     AcceleratedMidWindow(String),
+    #[error("run checkpoint: {0}")]
+    Checkpoint(String),
     #[error("monitor `{0}` was not declared")]
     UndeclaredMonitor(String),
     #[error("{0}")]

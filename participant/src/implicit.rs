@@ -134,6 +134,27 @@ impl Tries {
         self.held.push((output, sample));
     }
 
+    /// The acceleration state, for a run checkpoint.
+    pub fn accelerator(&self) -> &Accelerator {
+        &self.accelerator
+    }
+
+    /// A restarted run: the acceleration state as a run checkpoint kept it.
+    pub fn resume(&mut self, accelerator: Accelerator) {
+        self.accelerator = accelerator;
+    }
+
+    /// Send the held values and leave the acceleration state as it is: a
+    /// restarted run's fields, as they were sent before its checkpoint.
+    pub fn send_held(
+        &mut self,
+        outputs: &mut Outputs,
+        presence: &Presence,
+    ) -> Result<(), ExchangeError> {
+        self.held.sort_by_key(|(i, _)| *i);
+        self.send(outputs, presence)
+    }
+
     /// A window begins.
     pub fn start_window(&mut self) {
         self.accelerator.start_window();

@@ -18,7 +18,7 @@
 use nalgebra::{DMatrix, DVector};
 
 /// The columns kept, newest first, each with the window it came from.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Columns {
     v: Vec<Vec<f64>>,
     w: Vec<Vec<f64>>,

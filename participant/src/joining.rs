@@ -141,7 +141,8 @@ impl Joining {
 
     /// Declare what this participant exchanges, open its ports as the
     /// coupler connects them, and wait until every participant is ready.
-    /// Returns the running participant, whose first command is `Initialize`.
+    /// Returns the running participant, whose first command is `Initialize`
+    /// (`Resume` in a restarted run).
     pub fn declare(self, declaration: Declaration) -> Result<Participant, JoinError> {
         let first = self.setup.participants.first() == Some(&self.name);
         let declaration = match self.setup.scheme.implicit() {
@@ -176,6 +177,9 @@ impl Joining {
         );
         if self.setup.scheme.implicit().is_some() {
             plan = plan.implicit();
+        }
+        if let Some(window) = self.setup.resume {
+            plan = plan.resumed_after(window);
         }
         let names = &self.setup.participants;
         let me = names

@@ -18,6 +18,7 @@
 
 mod acceleration;
 mod channel;
+mod clock;
 mod declaration;
 mod error;
 mod fields;
@@ -30,6 +31,7 @@ pub mod mpirun;
 mod names;
 mod participant;
 mod presence;
+pub mod restart;
 pub mod scheme;
 pub mod supervisor;
 mod timing;

@@ -74,6 +74,24 @@ impl Rows {
         Ok(())
     }
 
+    /// The newest value of each column.
+    pub fn latest(&self) -> &[f64] {
+        &self.latest
+    }
+
+    /// A restarted run: `closed` rows were closed before, the last with
+    /// the values `latest`. Returns false when their count does not match
+    /// the declared monitors.
+    pub fn resume(&mut self, latest: &[f64], closed: u64) -> bool {
+        if latest.len() != self.latest.len() {
+            return false;
+        }
+        self.latest.copy_from_slice(latest);
+        self.batch.clear();
+        (self.first_row, self.closed) = (closed, closed);
+        true
+    }
+
     /// Close a row with the newest values.
     pub fn push_row(&mut self) {
         self.batch.extend_from_slice(&self.latest);

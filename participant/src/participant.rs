@@ -23,6 +23,8 @@
 //!         Command::Output { .. } => p.done(vec![])?,
 //!         // Only to a participant that declares `.checkpoints()`.
 //!         Command::SaveCheckpoint | Command::RestoreCheckpoint => p.done(vec![])?,
+//!         // Only to one that declares `.restarts()`.
+//!         Command::WriteCheckpoint { .. } | Command::Resume { .. } => p.done(vec![])?,
 //!         Command::Stop => break,
 //!     }
 //! }
@@ -35,10 +37,12 @@
 //! returns a view of the received value, read in place.
 
 use crate::channel::{self, BytesIn, BytesOut, ChannelError, FieldSample, Ipc};
+use crate::clock::Clock;
 use crate::error::ExchangeError;
 use crate::fields::{Inputs, Outputs};
 use crate::implicit::Tries;
 use crate::monitors::{Batch, Monitor, Rows};
+use crate::restart;
 use crate::timing::{Command, Plan, Timing};
 use crate::verdict::{self, Heard};
 use crate::wait::{WaitError, Waiter};
@@ -85,49 +89,6 @@ impl Control {
     /// Leave a message the coupler reads when it next looks (monitor rows).
     pub(crate) fn post(&self, msg: &FromParticipant) -> Result<(), ChannelError> {
         channel::post_message(&self.status, msg)
-    }
-}
-
-/// Where the participant's time goes: its own work (between calls), the
-/// exchange inside calls, and waiting for fields.
-struct Clock {
-    /// When the library last handed control back to the solver.
-    back: Instant,
-    started: Instant,
-    stats: Stats,
-}
-
-impl Clock {
-    /// Entering a call: the time since the last one was the solver's.
-    fn enter(&mut self) -> Instant {
-        let now = Instant::now();
-        self.stats.compute_s += (now - self.back).as_secs_f64();
-        now
-    }
-
-    /// Leaving a call entered at `entered`, of which `waited` was spent
-    /// waiting and `computed` in the solver's own closure.
-    fn leave(&mut self, entered: Instant, waited: Duration, computed: Duration) {
-        self.leave_sent(entered, waited, computed, Duration::ZERO);
-    }
-
-    /// The same for a write, of which `in_flight` was spent sending a value
-    /// after stamping it: its reader, if it waits for it, counts that as
-    /// the value's latency, so it is not counted twice.
-    fn leave_sent(
-        &mut self,
-        entered: Instant,
-        waited: Duration,
-        computed: Duration,
-        in_flight: Duration,
-    ) {
-        let now = Instant::now();
-        let inside = now - entered;
-        let exchange = inside.saturating_sub(waited + computed + in_flight);
-        self.stats.exchange_s += exchange.as_secs_f64();
-        self.stats.wait_s += waited.as_secs_f64();
-        self.stats.compute_s += computed.as_secs_f64();
-        self.back = now;
     }
 }
 
@@ -250,12 +211,69 @@ impl Participant {
         let command = self.plan.next().ok_or(ExchangeError::Misuse(
             "next_command() was called after Stop",
         ))?;
+        match command {
+            Command::WriteCheckpoint { window } => {
+                let dir = restart::dir(&self.setup.run_dir, window);
+                std::fs::create_dir_all(&dir).map_err(|e| {
+                    ExchangeError::Checkpoint(format!("cannot create {}: {e}", dir.display()))
+                })?;
+            }
+            Command::Resume { window } => self.resume(window)?,
+            _ => {}
+        }
         if command != Command::Stop {
             self.pending = Some(command);
         }
         self.clock.stats.commands += 1;
         self.clock.leave(entered, waited, Duration::ZERO);
         Ok(command)
+    }
+
+    /// The directory this participant writes its run checkpoint at the end
+    /// of `window` into (on `WriteCheckpoint`) and reads it back from (on
+    /// `Resume`); see [`restart::state_file`] for the file names.
+    pub fn checkpoint_dir(&self, window: u64) -> std::path::PathBuf {
+        restart::dir(&self.setup.run_dir, window)
+    }
+
+    /// The file this participant keeps its state in at the run checkpoint
+    /// of `window`.
+    pub fn state_file(&self, window: u64) -> std::path::PathBuf {
+        restart::state_file(&self.setup.run_dir, window, &self.name, None)
+    }
+
+    /// A restarted run: the library's part of the checkpoint of `window`,
+    /// the monitor rows closed up to its end (one at the start, one per
+    /// window) and the acceleration state.
+    fn resume(&mut self, window: u64) -> Result<(), ExchangeError> {
+        let saved = restart::LibraryState::read(&self.setup.run_dir, window, &self.name)
+            .map_err(|e| ExchangeError::Checkpoint(e.to_string()))?;
+        if !self.rows.resume(&saved.monitors, window + 2) {
+            return Err(ExchangeError::Checkpoint(format!(
+                "the checkpoint of window {window} holds {} monitors of `{}`, and it now \
+                 declares {}",
+                saved.monitors.len(),
+                self.name,
+                self.rows.latest().len()
+            )));
+        }
+        if let (Some(tries), Some(a)) = (self.tries.as_mut(), saved.accelerator) {
+            tries.resume(a);
+        }
+        Ok(())
+    }
+
+    /// The library's part of the run checkpoint of `window`, after the
+    /// solver's: its presence marks this participant's part complete.
+    fn write_checkpoint(&self, window: u64) -> Result<(), ExchangeError> {
+        let state = restart::LibraryState {
+            monitors: self.rows.latest().to_vec(),
+            accelerator: self.tries.as_ref().map(|t| t.accelerator().clone()),
+        };
+        let run_dir = &self.setup.run_dir;
+        (state.write(run_dir, window, &self.name))
+            .and_then(|_| restart::prune(run_dir, &self.name))
+            .map_err(|e| ExchangeError::Checkpoint(e.to_string()))
     }
 
     /// The verdict on try `iteration` at `window`, once every participant
@@ -351,7 +369,7 @@ impl Participant {
         if let Some(tries) = self.tries.as_mut().filter(|t| t.is_accelerated(i)) {
             let at_end = match self.pending {
                 Some(Command::Advance(a)) => a.window_end,
-                Some(Command::Initialize) => true,
+                Some(Command::Initialize | Command::Resume { .. }) => true,
                 _ => false,
             };
             if !at_end {
@@ -476,6 +494,14 @@ impl Participant {
                 let word = verdict::word(a.window, a.iteration, converged);
                 presence.own().post_word(word, tries.worst());
                 presence.wake_all_sleeping()?;
+                false
+            }
+            (Command::Resume { .. }, Some(tries)) => {
+                tries.send_held(&mut self.outputs, &self.waiter.presence)?;
+                false
+            }
+            (Command::WriteCheckpoint { window }, _) => {
+                self.write_checkpoint(window)?;
                 false
             }
             (Command::Initialize, None) => true,

@@ -229,23 +229,49 @@ impl Supervisor {
                 other => return Err(self.protocol(i, "Declare", other)),
             }
         }
-        let implicit = self
-            .names
-            .first()
-            .is_some_and(|n| setup(n).scheme.implicit().is_some());
-        let unable: Vec<&str> = (self.names.iter().zip(&declarations))
-            .filter(|(_, d)| !d.supports_checkpoints())
-            .map(|(n, _)| n.as_str())
-            .collect();
-        if implicit && !unable.is_empty() {
-            return Err(SuperviseError::Mismatch(format!(
-                "[coupling] scheme = \"implicit\" takes windows again from their \
-                 checkpoints, and `{}` does not save and restore them \
-                 (its declaration lacks `checkpoints()`): use scheme = \"explicit\"",
-                unable.join("`, `")
-            )));
+        if let Some(first) = self.names.first() {
+            self.refuse_unsupported(&setup(first), &declarations)?;
         }
         self.declarations = declarations;
+        Ok(())
+    }
+
+    /// What the run's `setup` asks of every participant that one's
+    /// declaration does not offer: implicit coupling needs
+    /// `checkpoints()`, run checkpoints and a restart need `restarts()`.
+    fn refuse_unsupported(
+        &self,
+        setup: &Setup,
+        declarations: &[Declaration],
+    ) -> Result<(), SuperviseError> {
+        type Offers = fn(&Declaration) -> bool;
+        let restarts = setup.timing.checkpoint_interval > 0.0 || setup.resume.is_some();
+        let needs: [(bool, Offers, &str); 2] = [
+            (
+                setup.scheme.implicit().is_some(),
+                Declaration::supports_checkpoints,
+                "[coupling] scheme = \"implicit\" takes windows again from their \
+                 checkpoints, and `{who}` does not save and restore them \
+                 (its declaration lacks `checkpoints()`): use scheme = \"explicit\"",
+            ),
+            (
+                restarts,
+                Declaration::supports_restarts,
+                "[run] checkpoint_interval asks every participant to write run \
+                 checkpoints, and `{who}` does not (its declaration lacks \
+                 `restarts()`): remove checkpoint_interval",
+            ),
+        ];
+        for (wanted, offers, message) in needs {
+            let unable: Vec<&str> = (self.names.iter().zip(declarations))
+                .filter(|(_, d)| !offers(d))
+                .map(|(n, _)| n.as_str())
+                .collect();
+            if wanted && !unable.is_empty() {
+                let who = unable.join("`, `");
+                return Err(SuperviseError::Mismatch(message.replace("{who}", &who)));
+            }
+        }
         Ok(())
     }
 

@@ -27,6 +27,10 @@ pub struct Timing {
     pub impulse_substeps: u32,
     /// Seconds a participant may wait for a field (or the coupler for an answer).
     pub timeout: f64,
+    /// Simulated time between run checkpoints [s] (`[run]
+    /// checkpoint_interval`); 0 writes none.
+    #[serde(default)]
+    pub checkpoint_interval: f64,
 }
 
 impl Timing {
@@ -90,47 +94,84 @@ pub enum Command {
         index: u64,
         time: f64,
     },
+    /// Run checkpoints (`[run] checkpoint_interval`): write what the run
+    /// needs to go on from the end of `window` into
+    /// `Participant::checkpoint_dir(window)`. Only to a participant that
+    /// declares `.restarts()`.
+    WriteCheckpoint {
+        window: u64,
+    },
+    /// A restarted run (`coupler run --restart`), in place of `Initialize`:
+    /// read back what `WriteCheckpoint { window }` wrote, then publish the
+    /// output fields as at `Initialize`. The run goes on with the next window.
+    Resume {
+        window: u64,
+    },
     /// The run is over: call `finish`.
     Stop,
+}
+
+/// Multiples of an interval of simulated time reached so far. The next
+/// one is computed from their count rather than added up, so no interval,
+/// however small against the time, can stall it.
+#[derive(Debug, Clone)]
+struct Interval {
+    start: f64,
+    interval: f64,
+    /// Multiples passed: the next is at start + (passed + 1)·interval.
+    passed: u64,
+}
+
+impl Interval {
+    fn new(start: f64, interval: f64) -> Interval {
+        Interval {
+            start,
+            interval,
+            passed: 0,
+        }
+    }
+
+    /// Whether `t` reached the next multiple (never, for an interval of 0);
+    /// if so, every multiple up to `t` counts as passed.
+    fn reached(&mut self, t: f64) -> bool {
+        if self.interval <= 0.0 {
+            return false;
+        }
+        // A small tolerance keeps round-off in t from skipping one.
+        let tol = 1e-9 * self.interval;
+        let next = self.start + (self.passed + 1) as f64 * self.interval;
+        if t < next - tol {
+            return false;
+        }
+        let k = ((t + tol - self.start) / self.interval).floor();
+        self.passed = self.passed.max(k.max(0.0) as u64);
+        true
+    }
 }
 
 /// When output is due: at the start, at every `output_interval` of
 /// simulated time (at the first window end that reaches it) and at the end.
 #[derive(Debug, Clone)]
 pub struct Outputs {
-    start: f64,
-    interval: f64,
+    every: Interval,
     /// Outputs written so far.
     index: u64,
-    /// Interval multiples passed so far: the next one is due at start + (k+1)·interval.
-    passed: u64,
 }
 
 impl Outputs {
     pub fn new(timing: &Timing) -> Outputs {
         Outputs {
-            start: timing.start_time,
-            interval: timing.output_interval,
+            every: Interval::new(timing.start_time, timing.output_interval),
             index: 0,
-            passed: 0,
         }
     }
 
     /// Whether output is due at time `t` (`last`: the run's end); if so,
-    /// its index, and the schedule moves on. The next time is computed from
-    /// the interval count rather than added up, so no interval, however
-    /// small against `t`, can stall it.
+    /// its index, and the schedule moves on.
     pub fn due(&mut self, t: f64, last: bool) -> Option<u64> {
-        // A small tolerance keeps round-off in t from skipping an output.
-        let tol = 1e-9 * self.interval;
-        let next = self.start + (self.passed + 1) as f64 * self.interval;
-        let due = self.index == 0 || last || (self.interval > 0.0 && t >= next - tol);
-        if !due {
+        let reached = self.every.reached(t);
+        if !(self.index == 0 || last || reached) {
             return None;
-        }
-        if self.interval > 0.0 {
-            let k = ((t + tol - self.start) / self.interval).floor();
-            self.passed = self.passed.max(k.max(0.0) as u64);
         }
         self.index += 1;
         Some(self.index - 1)
@@ -146,6 +187,8 @@ pub struct Plan {
     per_window: u32,
     substeps: u32,
     outputs: Outputs,
+    /// When run checkpoints are due (`checkpoint_interval`).
+    checkpoints: Interval,
     /// Whether windows are repeated until the interface converges.
     implicit: bool,
     /// The try at the current window, from 0.
@@ -175,6 +218,14 @@ enum Position {
     Output {
         window: u64,
     },
+    /// A run checkpoint at the window's end, if due.
+    WriteCheckpoint {
+        window: u64,
+    },
+    /// A restarted run's first command.
+    Resume {
+        window: u64,
+    },
     Stop,
     Over,
 }
@@ -198,6 +249,7 @@ impl Plan {
             per_window,
             substeps: substeps.max(1),
             outputs: Outputs::new(timing),
+            checkpoints: Interval::new(timing.start_time, timing.checkpoint_interval),
             implicit: false,
             iteration: 0,
             at: Position::Initialize,
@@ -208,6 +260,21 @@ impl Plan {
     /// until [`decide`](Self::decide) lets it go on.
     pub fn implicit(mut self) -> Plan {
         self.implicit = true;
+        self
+    }
+
+    /// The same schedule resumed after the end of `window`, as a restarted
+    /// run takes it: `Resume`, then the next window. The outputs and run
+    /// checkpoints of the windows before are counted as the full schedule
+    /// would have, so their numbers and times go on alike.
+    pub fn resumed_after(mut self, window: u64) -> Plan {
+        let _ = self.outputs.due(self.timing.start_time, false);
+        for w in 0..=window.min(self.windows.saturating_sub(1)) {
+            let (t, dt) = self.timing.window_span(w);
+            let _ = self.outputs.due(t + dt, w + 1 == self.windows);
+            let _ = self.checkpoints.reached(t + dt);
+        }
+        self.at = Position::Resume { window };
         self
     }
 
@@ -314,9 +381,22 @@ impl Iterator for Plan {
                     let next = if last {
                         Position::Stop
                     } else {
-                        self.window_start(window + 1)
+                        Position::WriteCheckpoint { window }
                     };
                     (index.map(|index| Command::Output { index, time }), next)
+                }
+                Position::WriteCheckpoint { window } => {
+                    let (t, dt) = self.timing.window_span(window);
+                    let due = self.checkpoints.reached(t + dt);
+                    let command = due.then_some(Command::WriteCheckpoint { window });
+                    (command, self.window_start(window + 1))
+                }
+                Position::Resume { window } => {
+                    let next = match window + 1 >= self.windows {
+                        true => Position::Stop,
+                        false => self.window_start(window + 1),
+                    };
+                    (Some(Command::Resume { window }), next)
                 }
                 Position::Stop => (Some(Command::Stop), Position::Over),
                 Position::Over => return None,
@@ -342,6 +422,7 @@ mod tests {
             structure_substeps: 6,
             impulse_substeps: 3,
             timeout: 1.0,
+            checkpoint_interval: 0.0,
         }
     }
 
@@ -370,6 +451,37 @@ mod tests {
         let a = advances(Plan::new(&t, cadence, false));
         assert_eq!(a.len(), 10);
         assert!(a.iter().all(|a| a.substeps == 6 && a.window_end));
+    }
+
+    /// A run resumed after a run checkpoint's window takes the rest of the
+    /// schedule exactly as the whole run does: the same advances, outputs
+    /// (numbers and times) and later checkpoints.
+    #[test]
+    fn a_resumed_plan_is_the_rest_of_the_whole_plan() {
+        let mut t = timing(0.02, 0.003);
+        t.checkpoint_interval = 0.005;
+        let cadence = Cadence::PerWindow { substeps: 1 };
+        let whole: Vec<Command> = Plan::new(&t, cadence, false).collect();
+        let written: Vec<u64> = whole
+            .iter()
+            .filter_map(|c| match c {
+                Command::WriteCheckpoint { window } => Some(*window),
+                _ => None,
+            })
+            .collect();
+        // At 5, 10 and 15 ms; none at the run's end.
+        assert_eq!(written, [4, 9, 14]);
+        for &window in &written {
+            let at = whole
+                .iter()
+                .position(|c| *c == Command::WriteCheckpoint { window })
+                .unwrap();
+            let rest: Vec<Command> = Plan::new(&t, cadence, false)
+                .resumed_after(window)
+                .collect();
+            assert_eq!(rest[0], Command::Resume { window });
+            assert_eq!(rest[1..], whole[at + 1..]);
+        }
     }
 
     /// Implicit: each window starts at its checkpoint, waits for a verdict

@@ -201,13 +201,30 @@ impl Series {
         let path = self.dir.join(&rel);
         write(&path)?;
         self.entries.push((time, rel));
+        self.write_pvd()?;
+        Ok(path)
+    }
+
+    /// The `.pvd` listing every output so far.
+    fn write_pvd(&self) -> io::Result<()> {
         let mut s = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n<Collection>\n");
         for (t, f) in &self.entries {
             let _ = writeln!(s, "<DataSet timestep=\"{t}\" part=\"0\" file=\"{f}\"/>");
         }
         s.push_str("</Collection>\n</VTKFile>\n");
-        write_atomic(&self.dir.join(format!("{}.pvd", self.name)), &s)?;
-        Ok(path)
+        write_atomic(&self.dir.join(format!("{}.pvd", self.name)), &s)
+    }
+
+    /// The outputs written so far, (time, file) each, for a run checkpoint.
+    pub fn entries(&self) -> &[(f64, String)] {
+        &self.entries
+    }
+
+    /// A restarted run: the outputs written before its checkpoint were
+    /// `entries`; the `.pvd` lists them again (and no later one).
+    pub fn resume(&mut self, entries: Vec<(f64, String)>) -> io::Result<()> {
+        self.entries = entries;
+        self.write_pvd()
     }
 }
 

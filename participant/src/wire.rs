@@ -31,6 +31,10 @@ pub struct Setup {
     pub timing: Timing,
     /// Explicit, or implicit with its settings (`[coupling] scheme`).
     pub scheme: crate::scheme::Scheme,
+    /// A restarted run: the window after whose end it goes on, from the
+    /// run checkpoint written there (`Command::Resume`).
+    #[serde(default)]
+    pub resume: Option<u64>,
 }
 
 /// Who writes a field a participant reads, and its layout.

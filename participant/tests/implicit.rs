@@ -246,3 +246,19 @@ fn implicit_coupling_is_refused_to_a_participant_without_checkpoints() {
     assert!(matches!(err, SuperviseError::Mismatch(_)), "{err}");
     assert!(err.to_string().contains("`fluid`"), "{err}");
 }
+
+/// Run checkpoints are refused the same way to participants whose
+/// declarations lack `restarts()`.
+#[test]
+fn run_checkpoints_are_refused_to_participants_that_cannot_write_them() {
+    let mut t = timing(2, 5.0);
+    t.checkpoint_interval = 0.1;
+    let play = |name: &str, joining: Joining| match name {
+        "fluid" => fluid(joining, true),
+        _ => wall(joining),
+    };
+    let err = run_with(&["fluid", "wall"], t, Scheme::Explicit, play).unwrap_err();
+    assert!(matches!(err, SuperviseError::Mismatch(_)), "{err}");
+    assert!(err.to_string().contains("`fluid`, `wall`"), "{err}");
+    assert!(err.to_string().contains("restarts()"), "{err}");
+}

@@ -5,11 +5,19 @@
 //! count of contact impulses; no contact persists from step to step (each
 //! step detects its own, `contact.rs`), and shapes and masses do not change.
 
-use crate::{Bodies, State};
+//!
+//! A run checkpoint (`[run] checkpoint_interval`) writes the same state to
+//! disk, each body's as its 13 values bit for bit.
 
-#[derive(Debug, Clone, Default, PartialEq)]
+use crate::motion::{pack, unpack};
+use crate::Bodies;
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Checkpoint {
-    states: Vec<State>,
+    /// Each body's centre, velocity, Euler parameters and principal-axes
+    /// angular velocity.
+    states: Vec<[f64; 13]>,
     contact_impulses: u64,
 }
 
@@ -17,14 +25,15 @@ impl Bodies {
     /// Save the bodies' state into `into`, reusing its buffer.
     pub fn save(&self, into: &mut Checkpoint) {
         into.states.clear();
-        into.states.extend(self.bodies.iter().map(|b| b.state));
+        into.states
+            .extend(self.bodies.iter().map(|b| pack(&b.state)));
         into.contact_impulses = self.contact_impulses;
     }
 
     /// Return to the state `from` holds.
     pub fn restore(&mut self, from: &Checkpoint) {
         for (body, state) in self.bodies.iter_mut().zip(&from.states) {
-            body.state = *state;
+            body.state = unpack(state);
         }
         self.contact_impulses = from.contact_impulses;
     }

@@ -108,6 +108,7 @@ fn declaration(b: &Bodies, n_i: u32) -> Declaration {
     .reads_if_written(COLLISION_IMPULSE)
     .monitors(monitors(b).into_iter().map(|m| m.name))
     .checkpoints()
+    .restarts()
 }
 
 /// Join the run as the rigid-body participant, build the bodies of the
@@ -136,6 +137,26 @@ pub fn run() -> Result<(), Error> {
     p.reporting(|p| d.drive(p))?;
     p.finish(d.steps)?;
     Ok(())
+}
+
+/// What rigid-proc keeps in a run checkpoint: the bodies, the outputs
+/// written so far, and the steps taken (for the statistics).
+#[derive(serde::Serialize, serde::Deserialize)]
+struct RunState {
+    bodies: Checkpoint,
+    centres: Vec<(f64, String)>,
+    surfaces: Option<Vec<(f64, String)>>,
+    steps: u64,
+}
+
+impl RunState {
+    fn write(&self, path: &std::path::Path) -> std::io::Result<()> {
+        participant::restart::write(path, self)
+    }
+
+    fn read(path: &std::path::Path) -> std::io::Result<RunState> {
+        participant::restart::read(path)
+    }
 }
 
 /// The bodies taking part in a run, their output, and the fluid's loads
@@ -173,6 +194,15 @@ impl Driven {
                     self.loads_window = None;
                     p.done(Vec::new())?;
                 }
+                Command::WriteCheckpoint { window } => {
+                    self.run_state().write(&p.state_file(window))?;
+                    p.done(Vec::new())?;
+                }
+                Command::Resume { window } => {
+                    self.resume(p, window)?;
+                    publish(p, &self.bodies, true)?;
+                    p.done(Vec::new())?;
+                }
                 Command::Advance(step) => self.advance(p, &step)?,
                 Command::Output { index, time } => {
                     write_points(&mut self.centres, &self.bodies, index, time)?;
@@ -184,6 +214,31 @@ impl Driven {
                 Command::Stop => return Ok(()),
             }
         }
+    }
+
+    /// What a run checkpoint keeps.
+    fn run_state(&self) -> RunState {
+        let mut bodies = Checkpoint::default();
+        self.bodies.save(&mut bodies);
+        RunState {
+            bodies,
+            centres: self.centres.entries().to_vec(),
+            surfaces: self.surfaces.as_ref().map(|s| s.entries().to_vec()),
+            steps: self.steps,
+        }
+    }
+
+    /// A restarted run: the bodies and outputs as the run checkpoint of
+    /// `window` kept them.
+    fn resume(&mut self, p: &Participant, window: u64) -> Result<(), Error> {
+        let saved = RunState::read(&p.state_file(window))?;
+        self.bodies.restore(&saved.bodies);
+        self.centres.resume(saved.centres)?;
+        if let (Some(series), Some(entries)) = (&mut self.surfaces, saved.surfaces) {
+            series.resume(entries)?;
+        }
+        self.steps = saved.steps;
+        Ok(())
     }
 
     fn advance(&mut self, p: &mut Participant, step: &Advance) -> Result<(), Error> {

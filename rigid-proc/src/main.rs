@@ -6,7 +6,7 @@ fn main() {
     // `rigid-proc --check SCENARIO`: the [rigid] table, checked.
     // It saves and restores window checkpoints (implicit coupling).
     scenario::answer_check(|path, text| {
-        Scene::load(path, text).map(|_| scenario::Answer::with_checkpoints())
+        Scene::load(path, text).map(|_| scenario::Answer::with_restarts())
     });
     if let Err(e) = rigid_proc::driver::run() {
         eprintln!("rigid-proc: {e}");

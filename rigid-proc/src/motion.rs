@@ -71,7 +71,8 @@ fn dynamic(body: &mut Body, load: &Load, gravity: &Vector3<f64>, h: f64) {
     body.state = s;
 }
 
-fn pack(s: &State) -> [f64; 13] {
+/// A state's 13 values: centre, velocity, Euler parameters, w.
+pub(crate) fn pack(s: &State) -> [f64; 13] {
     let mut u = [0.0; 13];
     u[0..3].copy_from_slice(s.x.as_slice());
     u[3..6].copy_from_slice(s.v.as_slice());
@@ -80,7 +81,8 @@ fn pack(s: &State) -> [f64; 13] {
     u
 }
 
-fn unpack(u: &[f64; 13]) -> State {
+/// The state [`pack`] gave.
+pub(crate) fn unpack(u: &[f64; 13]) -> State {
     State {
         x: Vector3::new(u[0], u[1], u[2]),
         v: Vector3::new(u[3], u[4], u[5]),

@@ -39,6 +39,10 @@ pub struct Answer {
     /// its declaration then says with `checkpoints()`).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub checkpoints: bool,
+    /// Whether it writes run checkpoints and resumes from them (what `[run]
+    /// checkpoint_interval` needs; its declaration says `restarts()`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub restarts: bool,
 }
 
 impl Answer {
@@ -47,6 +51,16 @@ impl Answer {
     pub fn with_checkpoints() -> Answer {
         Answer {
             checkpoints: true,
+            ..Default::default()
+        }
+    }
+
+    /// The same, saying too that it writes run checkpoints and resumes
+    /// from them.
+    pub fn with_restarts() -> Answer {
+        Answer {
+            checkpoints: true,
+            restarts: true,
             ..Default::default()
         }
     }

@@ -56,6 +56,10 @@ pub struct RunSection {
     /// Simulated time between `.vtu` outputs [s]; 0 writes only the first and last state.
     #[serde(default)]
     pub output_interval: f64,
+    /// Simulated time between run checkpoints [s], from which `coupler run
+    /// --restart` goes on; absent writes none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checkpoint_interval: Option<f64>,
 }
 
 /// `[coupling]`: the FSI window and its sub-steps (DESIGN.md, "Time stepping").
@@ -292,6 +296,19 @@ impl Scenario {
                 )
                 .replace("  ", " "),
             );
+        }
+        if let Some(every) = r.checkpoint_interval {
+            let key = ["run", "checkpoint_interval"];
+            c.positive(&key, every, "s");
+            if every > 0.0 && span / every > MAX_WINDOWS {
+                c.problem(
+                    &key,
+                    format!(
+                        "checkpoint_interval = {every:e} s asks for more than {MAX_WINDOWS:e} \
+                         checkpoints from start_time to end_time"
+                    ),
+                );
+            }
         }
     }
 

@@ -21,8 +21,9 @@ pub fn answer<S: Stepper>(
 ) -> Result<Answer, ScenarioError> {
     let scene = Scene::load(path, text, program)?;
     let section = &scene.structure;
-    // Every structure stepper saves and restores window checkpoints.
-    let mut answer = Answer::with_checkpoints();
+    // Every structure stepper saves and restores window checkpoints, and
+    // the driver writes them to disk as run checkpoints.
+    let mut answer = Answer::with_restarts();
     answer
         .manifest
         .insert("integrator".into(), section.integrator.name().into());

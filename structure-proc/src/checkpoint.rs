@@ -16,7 +16,7 @@ use crate::model::{Attachment, Model};
 
 /// One suspension line's break state: whether it is broken, and the
 /// stiffness and damping its top segment had (what a break zeroes).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 struct LineState {
     broken: bool,
     k: f64,
@@ -25,7 +25,7 @@ struct LineState {
 
 /// The structure's state at a window's start. Saving into the same
 /// checkpoint every window reuses its buffers.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Checkpoint {
     x: Vec<f64>,
     v: Vec<f64>,

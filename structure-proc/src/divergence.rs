@@ -16,7 +16,7 @@ pub const SPEED_FACTOR: f64 = 100.0;
 pub const MIN_SPEED_SCALE: f64 = 1.0;
 
 /// The speed scale of a scene and what set it.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Watch {
     /// Speed scale [m/s].
     pub scale: f64,

@@ -177,7 +177,8 @@ fn declaration(
     .reads_if_written(CANOPY_PRESSURE)
     .reads_if_written(ATTACHMENT_STATE)
     .monitors(monitors.iter().map(|m| m.name.clone()))
-    .checkpoints();
+    .checkpoints()
+    .restarts();
     if let Some(o) = obstacles {
         d = d
             .writes(COLLISION_IMPULSE, 6, o.momenta.len() / 6)
@@ -251,6 +252,18 @@ struct Driven<S> {
     window_start: WindowStart,
 }
 
+/// What structure-proc keeps in a run checkpoint (`[run]
+/// checkpoint_interval`): what a window's start holds, the outputs written
+/// so far, and the sub-steps taken.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct RunState {
+    checkpoint: Checkpoint,
+    watch: Watch,
+    collisions: Option<(u64, [f64; 3])>,
+    outputs: [Option<Vec<(f64, String)>>; 2],
+    substeps: u64,
+}
+
 /// What a window's start holds beyond the model and stepper
 /// (`checkpoint.rs`): the divergence watch's scale and the collision
 /// counters the monitors report.
@@ -279,6 +292,16 @@ impl<S: Stepper> Driven<S> {
                 }
                 Command::RestoreCheckpoint => {
                     self.restore();
+                    p.done(Vec::new())?;
+                }
+                Command::WriteCheckpoint { window } => {
+                    let state = self.run_state();
+                    participant::restart::write(&p.state_file(window), &state)?;
+                    p.done(Vec::new())?;
+                }
+                Command::Resume { window } => {
+                    self.resume(participant::restart::read(&p.state_file(window))?)?;
+                    publish_canopy(p, &self.m, true)?;
                     p.done(Vec::new())?;
                 }
                 Command::Advance(step) => self.advance(p, &step)?,
@@ -316,6 +339,36 @@ impl<S: Stepper> Driven<S> {
         // The window's pressure comes again with its next try.
         self.pressure_window = None;
         self.window_start.first = true;
+    }
+
+    /// What a run checkpoint keeps: a window checkpoint as of now (the
+    /// next window's start), the outputs written so far, and the
+    /// sub-steps taken (for the statistics).
+    fn run_state(&mut self) -> RunState {
+        self.save();
+        let saved = self.saved.as_ref().expect("just saved");
+        RunState {
+            checkpoint: saved.checkpoint.clone(),
+            watch: saved.watch.clone(),
+            collisions: saved.collisions.map(|(n, p)| (n, p.into())),
+            outputs: self.output.entries(),
+            substeps: self.substeps,
+        }
+    }
+
+    /// A restarted run: the model, stepper and outputs as a run checkpoint
+    /// kept them.
+    fn resume(&mut self, state: RunState) -> Result<(), Error> {
+        self.saved = Some(Saved {
+            checkpoint: state.checkpoint,
+            watch: state.watch,
+            collisions: state.collisions.map(|(n, p)| (n, p.into())),
+        });
+        self.restore();
+        self.window_start.first = false;
+        self.output.resume(state.outputs)?;
+        self.substeps = state.substeps;
+        Ok(())
     }
 
     fn advance(&mut self, p: &mut Participant, step: &Advance) -> Result<(), Error> {

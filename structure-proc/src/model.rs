@@ -11,7 +11,7 @@ use crate::system::System;
 
 /// An attachment point on a rigid body, prescribed over one impulse sub-step as
 /// x(τ) = x0 + v0·τ, and the impulse the structure gives back.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Attachment {
     pub node: usize,
     pub x0: [f64; 3],

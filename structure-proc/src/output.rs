@@ -16,6 +16,22 @@ impl Output {
         }
     }
 
+    /// The outputs written so far, canopy's and strings', for a run checkpoint.
+    pub fn entries(&self) -> [Option<Vec<(f64, String)>>; 2] {
+        [&self.canopy, &self.strings].map(|s| s.as_ref().map(|s| s.entries().to_vec()))
+    }
+
+    /// A restarted run: the outputs [`Output::entries`] gave.
+    pub fn resume(&mut self, entries: [Option<Vec<(f64, String)>>; 2]) -> std::io::Result<()> {
+        let [canopy, strings] = entries;
+        for (series, entries) in [(&mut self.canopy, canopy), (&mut self.strings, strings)] {
+            if let (Some(series), Some(entries)) = (series, entries) {
+                series.resume(entries)?;
+            }
+        }
+        Ok(())
+    }
+
     pub fn write(&mut self, m: &Model, index: u64, time: f64) -> std::io::Result<()> {
         if let Some(series) = &mut self.canopy {
             let n = m.canopy_nodes;

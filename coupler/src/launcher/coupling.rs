@@ -63,12 +63,14 @@ pub struct Shared<'a> {
     pub finished: &'a Mutex<Vec<String>>,
 }
 
-/// Connect, set up, start and supervise every participant to the end time.
+/// Connect, set up, start and supervise every participant to the end time
+/// (from the end of window `resume` on, in a restarted run, whose
+/// `monitors.csv` holds the rows up to there).
 pub fn run(
     sup: &mut Supervisor,
     scenario: &Scenario,
     setup: impl Fn(&str) -> Setup,
-    monitors_path: &Path,
+    (monitors_path, resume): (&Path, Option<u64>),
     progress: &mut Progress,
     shared: Shared,
 ) -> Result<Outcome, CouplingError> {
@@ -76,7 +78,12 @@ pub fn run(
     let timeout = Duration::from_secs_f64(timing.timeout);
     sup.join(setup, CONNECT_FLOOR.max(timeout), timeout)?;
     let names = sup.names().to_vec();
-    let monitors = Monitors::create(monitors_path, &names, sup.declarations(), &timing)?;
+    let declarations = sup.declarations();
+    let monitors = match resume {
+        // A row at the start and one per window up to its end.
+        Some(window) => Monitors::resume(monitors_path, &names, declarations, &timing, window + 2)?,
+        None => Monitors::create(monitors_path, &names, declarations, &timing)?,
+    };
     sup.start(timeout)?;
     let started = Instant::now();
     let mut watch = Watch {

@@ -10,6 +10,7 @@ pub mod manifest;
 pub mod monitors;
 pub mod programs;
 pub mod progress;
+pub mod restart;
 pub mod run;
 pub mod study;
 pub mod supervise;
@@ -48,35 +49,51 @@ pub struct Checked {
 pub fn load_checked(path: &Path) -> Result<Checked, Vec<String>> {
     let mut checked = load_coupling(path).map_err(|e| vec![e.to_string()])?;
     checked.answers = checks::ask_all(&mut checked.programs, path)?;
-    refuse_implicit_without_checkpoints(&checked).map_err(|e| vec![e.to_string()])?;
+    refuse_what_a_program_cannot_do(&checked).map_err(|e| vec![e.to_string()])?;
     Ok(checked)
 }
 
-/// `scheme = "implicit"` takes windows again from checkpoints: every
-/// program must say in its `--check` answer that it saves them.
-fn refuse_implicit_without_checkpoints(checked: &Checked) -> Result<(), ScenarioError> {
-    if checked.scenario.coupling.implicit_settings().is_none() {
-        return Ok(());
+/// Keys that need every program to do something it may not: `scheme =
+/// "implicit"` takes windows again from checkpoints, `[run]
+/// checkpoint_interval` writes run checkpoints. Each program says in its
+/// `--check` answer what it does; the first key one cannot serve is
+/// refused at its line.
+fn refuse_what_a_program_cannot_do(checked: &Checked) -> Result<(), ScenarioError> {
+    type Can = fn(&Answer) -> bool;
+    let s = &checked.scenario;
+    let needs: [(bool, Can, [&str; 2], &str); 2] = [
+        (
+            s.coupling.implicit_settings().is_some(),
+            |a| a.checkpoints,
+            ["coupling", "scheme"],
+            "scheme = \"implicit\" takes windows again from their checkpoints, and the \
+             program of `{who}` does not save and restore them (its `--check` answer says \
+             so): use scheme = \"explicit\"",
+        ),
+        (
+            s.run.checkpoint_interval.is_some(),
+            |a| a.restarts,
+            ["run", "checkpoint_interval"],
+            "checkpoint_interval asks every participant to write run checkpoints, and the \
+             program of `{who}` does not (its `--check` answer says so): remove the key",
+        ),
+    ];
+    for (wanted, can, key, message) in needs {
+        let unable: Vec<&str> = (checked.answers.iter())
+            .filter(|(_, a)| !can(a))
+            .map(|(name, _)| name.as_str())
+            .collect();
+        if wanted && !unable.is_empty() {
+            let message = message.replace("{who}", &unable.join("`, `"));
+            return Err(ScenarioError::at_key(
+                &checked.path,
+                &checked.text,
+                &key,
+                message,
+            ));
+        }
     }
-    let unable: Vec<&str> = (checked.answers.iter())
-        .filter(|(_, a)| !a.checkpoints)
-        .map(|(name, _)| name.as_str())
-        .collect();
-    if unable.is_empty() {
-        return Ok(());
-    }
-    let message = format!(
-        "scheme = \"implicit\" takes windows again from their checkpoints, and the \
-         program of `{}` does not save and restore them (its `--check` answer says so): \
-         use scheme = \"explicit\"",
-        unable.join("`, `")
-    );
-    Err(ScenarioError::at_key(
-        &checked.path,
-        &checked.text,
-        &["coupling", "scheme"],
-        message,
-    ))
+    Ok(())
 }
 
 /// The coupling part of the scenario, and its programs found.
@@ -251,5 +268,6 @@ pub fn timing(s: &Scenario) -> Timing {
         structure_substeps: s.coupling.structure_substeps,
         impulse_substeps: s.coupling.impulse_substeps,
         timeout: s.coupling.timeout,
+        checkpoint_interval: s.run.checkpoint_interval.unwrap_or(0.0),
     }
 }

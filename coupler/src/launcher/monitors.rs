@@ -52,16 +52,46 @@ pub enum MonitorsError {
     },
     #[error("participant `{0}` sent monitor rows out of order or of the wrong width")]
     Malformed(String),
+    #[error(
+        "{0} has other columns than the participants now declare: the run cannot go on \
+         in it"
+    )]
+    Columns(String),
 }
 
-impl Monitors {
-    /// Create `path` with its header: `names[i]` declared `declarations[i]`.
-    pub fn create(
-        path: &Path,
-        names: &[String],
-        declarations: &[Declaration],
-        timing: &Timing,
-    ) -> Result<Monitors, MonitorsError> {
+fn io_error(path: &Path, source: std::io::Error) -> MonitorsError {
+    MonitorsError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// Cut `path` back to its header and first `rows` rows; false when it
+/// has fewer whole rows than that (a partial last line never counts).
+pub fn keep_rows(path: &Path, rows: u64) -> std::io::Result<bool> {
+    let text = std::fs::read(path)?;
+    let ends = text.iter().enumerate().filter(|(_, &b)| b == b'\n');
+    // The header's newline, then one per row.
+    let Some((end, _)) = ends.clone().nth(rows as usize) else {
+        return Ok(false);
+    };
+    let file = std::fs::OpenOptions::new().write(true).open(path)?;
+    file.set_len(end as u64 + 1)?;
+    Ok(true)
+}
+
+/// The columns: the header, and where the energies and the tries are.
+struct Layout {
+    header: String,
+    widths: Vec<usize>,
+    kinetic: Vec<(usize, usize)>,
+    potential: Vec<(usize, usize)>,
+    tries: Option<(usize, usize)>,
+}
+
+impl Layout {
+    /// `names[i]` declared `declarations[i]`.
+    fn of(names: &[String], declarations: &[Declaration]) -> Layout {
         let mut header = String::from("time,kinetic_energy,potential_energy");
         let (mut kinetic, mut potential, mut tries) = (Vec::new(), Vec::new(), None);
         for (p, (name, d)) in names.iter().zip(declarations).enumerate() {
@@ -75,42 +105,101 @@ impl Monitors {
                 }
             }
         }
-        let io = |source| MonitorsError::Io {
-            path: path.display().to_string(),
-            source,
-        };
-        // Written aside and renamed, so the file appears with its header.
-        let header = format!("{header}\n");
-        let tmp = path.with_extension("csv.tmp");
-        let written = std::fs::write(&tmp, &header).and_then(|_| std::fs::rename(&tmp, path));
-        if let Err(e) = written {
-            let _ = std::fs::remove_file(&tmp);
-            return Err(io(e));
-        }
-        let file = std::fs::OpenOptions::new()
-            .append(true)
-            .open(path)
-            .map_err(io)?;
-        Ok(Monitors {
-            path: path.to_path_buf(),
-            file,
-            buffer: String::new(),
-            length: header.len() as u64,
-            parts: declarations
+        Layout {
+            header,
+            widths: declarations
                 .iter()
-                .map(|d| Part {
-                    width: d.monitor_names().len(),
-                    pending: VecDeque::new(),
-                    next: 0,
-                })
+                .map(|d| d.monitor_names().len())
                 .collect(),
             kinetic,
             potential,
             tries,
+        }
+    }
+}
+
+impl Monitors {
+    /// Create `path` with its header: `names[i]` declared `declarations[i]`.
+    pub fn create(
+        path: &Path,
+        names: &[String],
+        declarations: &[Declaration],
+        timing: &Timing,
+    ) -> Result<Monitors, MonitorsError> {
+        let layout = Layout::of(names, declarations);
+        // Written aside and renamed, so the file appears with its header.
+        let header = format!("{}\n", layout.header);
+        let tmp = path.with_extension("csv.tmp");
+        let written = std::fs::write(&tmp, &header).and_then(|_| std::fs::rename(&tmp, path));
+        if let Err(e) = written {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(io_error(path, e));
+        }
+        Monitors::open(path, layout, timing, 0)
+    }
+
+    /// A restarted run's: `path` holds the header and the first `rows`
+    /// rows (`keep_rows`), and the participants send the rows after them.
+    pub fn resume(
+        path: &Path,
+        names: &[String],
+        declarations: &[Declaration],
+        timing: &Timing,
+        rows: u64,
+    ) -> Result<Monitors, MonitorsError> {
+        let layout = Layout::of(names, declarations);
+        let text = std::fs::read_to_string(path).map_err(|e| io_error(path, e))?;
+        if text.lines().next() != Some(layout.header.as_str()) {
+            return Err(MonitorsError::Columns(path.display().to_string()));
+        }
+        let tries = layout
+            .tries
+            .map(|(p, c)| 3 + layout.widths[..p].iter().sum::<usize>() + c);
+        let mut m = Monitors::open(path, layout, timing, rows)?;
+        // The tries of the windows before, for the progress line's mean.
+        let column = tries.into_iter().flat_map(|i| {
+            let rows = text.lines().skip(2);
+            rows.filter_map(move |l| l.split(',').nth(i)?.parse::<f64>().ok())
+        });
+        for t in column {
+            (m.last_tries, m.total_tries) = (t, m.total_tries + t);
+        }
+        Ok(m)
+    }
+
+    /// Rows go on in `path` after its first `rows`.
+    fn open(
+        path: &Path,
+        layout: Layout,
+        timing: &Timing,
+        rows: u64,
+    ) -> Result<Monitors, MonitorsError> {
+        let file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(path)
+            .map_err(|e| io_error(path, e))?;
+        let length = file.metadata().map_err(|e| io_error(path, e))?.len();
+        Ok(Monitors {
+            path: path.to_path_buf(),
+            file,
+            buffer: String::new(),
+            length,
+            parts: layout
+                .widths
+                .iter()
+                .map(|&width| Part {
+                    width,
+                    pending: VecDeque::new(),
+                    next: rows,
+                })
+                .collect(),
+            kinetic: layout.kinetic,
+            potential: layout.potential,
+            tries: layout.tries,
             last_tries: f64::NAN,
             total_tries: 0.0,
             timing: *timing,
-            written: 0,
+            written: rows,
         })
     }
 
@@ -189,10 +278,7 @@ impl Monitors {
     }
 
     fn io(&self, source: std::io::Error) -> MonitorsError {
-        MonitorsError::Io {
-            path: self.path.display().to_string(),
-            source,
-        }
+        io_error(&self.path, source)
     }
 
     /// Write the buffered rows, in pieces of whole rows. If a write fails

@@ -35,10 +35,10 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
     super::warn(&checked);
     // Timing starts after any first-run build of the solvers.
     let started = Instant::now();
-    let scenario = checked.scenario.clone();
     let run_id = names::new_run_id();
-    let run_dir = out
-        .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}-{run_id}", scenario.run.name)));
+    let run_dir = out.unwrap_or_else(|| {
+        PathBuf::from("runs").join(format!("{}-{run_id}", checked.scenario.run.name))
+    });
     let run_dir = match claim_run_dir(&run_dir, &checked.text) {
         Ok(d) => d,
         Err(e) => {
@@ -46,12 +46,69 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
             return EXIT_BAD_INPUT;
         }
     };
+    launch(&checked, &run_id, &run_dir, None, started)
+}
+
+/// `coupler run --restart RUN_DIR`: the run in `run_dir` goes on from its
+/// last complete run checkpoint, with the scenario it was started with.
+pub fn restart(run_dir: &Path) -> i32 {
+    let scenario_path = run_dir.join("scenario.toml");
+    if !scenario_path.is_file() {
+        eprintln!(
+            "error: {} is not a run directory: it has no scenario.toml",
+            run_dir.display()
+        );
+        return EXIT_BAD_INPUT;
+    }
+    let checked = match super::load_checked(&scenario_path) {
+        Ok(c) => c,
+        Err(problems) => return super::refuse(&problems),
+    };
+    super::warn(&checked);
+    let started = Instant::now();
+    let names: Vec<String> = checked.programs.iter().map(|(n, _)| n.clone()).collect();
+    let window = match super::restart::prepare(run_dir, &checked.scenario, &names) {
+        Ok(w) => w,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return EXIT_BAD_INPUT;
+        }
+    };
+    let (t, dt) = super::timing(&checked.scenario).window_span(window);
+    eprintln!(
+        "restarting {} from its run checkpoint at t = {} s (window {window})",
+        run_dir.display(),
+        t + dt
+    );
+    let run_dir = run_dir
+        .canonicalize()
+        .unwrap_or_else(|_| run_dir.to_path_buf());
+    launch(
+        &checked,
+        &names::new_run_id(),
+        &run_dir,
+        Some(window),
+        started,
+    )
+}
+
+/// Run `checked` in `run_dir`, from the start or from the run checkpoint
+/// at the end of window `resume`; the exit code.
+fn launch(
+    checked: &super::Checked,
+    run_id: &str,
+    run_dir: &Path,
+    resume: Option<u64>,
+    started: Instant,
+) -> i32 {
+    let scenario_path = &checked.path;
     // Replaced when the run ends; if the coupler itself is killed, this says so.
     let early = json!({
         "status": "running",
         "run_id": run_id,
         "scenario": scenario_path.display().to_string(),
         "command_line": std::env::args().collect::<Vec<_>>(),
+        "resumed_after_window": resume,
     });
     let _ = std::fs::write(run_dir.join("manifest.json"), early.to_string());
     // Stale resources of earlier runs that died are removed before this one starts.
@@ -67,7 +124,7 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
             return EXIT_RUN_FAILED;
         }
     };
-    let (end, children) = runtime.block_on(supervise_run(&checked, &run_id, &run_dir));
+    let (end, children) = runtime.block_on(supervise_run(checked, run_id, run_dir, resume));
     names::cleanup_dead_nodes();
 
     let (status, code) = match &end {
@@ -77,16 +134,17 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
         End::Interrupted => ("interrupted", EXIT_INTERRUPTED),
     };
     let iterations = Iterations::gather(&run_dir.join("monitors.csv"));
-    if let Some(Err(e)) = iterations.as_ref().map(|i| i.write(&run_dir)) {
+    if let Some(Err(e)) = iterations.as_ref().map(|i| i.write(run_dir)) {
         eprintln!("warning: cannot write iterations.csv or iterations.png: {e}");
     }
-    let mut manifest = manifest(&checked, &run_id, &end, &children, status, started);
+    let mut manifest = manifest(checked, run_id, &end, &children, status, started);
     manifest["implicit"] = iterations.map_or(serde_json::Value::Null, |i| i.summary());
+    manifest["resumed_after_window"] = json!(resume);
     let _ = std::fs::write(
         run_dir.join("manifest.json"),
         serde_json::to_string_pretty(&manifest).unwrap_or_default(),
     );
-    tell(&end, &children, &run_dir, started, scenario_path);
+    tell(&end, &children, run_dir, started, scenario_path);
     code
 }
 
@@ -173,12 +231,13 @@ async fn supervise_run(
     checked: &super::Checked,
     run_id: &str,
     run_dir: &Path,
+    resume: Option<u64>,
 ) -> (End, Vec<Child>) {
     let flags = Flags {
         abort: Arc::new(AtomicBool::new(false)),
         finished: Arc::new(Mutex::new(Vec::new())),
     };
-    let (thread, ready_rx, mut done_rx) = coupling_thread(checked, run_id, run_dir, &flags);
+    let (thread, ready_rx, mut done_rx) = coupling_thread(checked, run_id, run_dir, resume, &flags);
     // Signals are caught from before the first child starts to the end.
     let mut signals = Signals::install();
     let mut children: Vec<Child> = Vec::new();
@@ -236,6 +295,7 @@ fn coupling_thread(
     checked: &super::Checked,
     run_id: &str,
     run_dir: &Path,
+    resume: Option<u64>,
     flags: &Flags,
 ) -> (
     std::thread::JoinHandle<()>,
@@ -254,6 +314,7 @@ fn coupling_thread(
         participants: names.clone(),
         timing: super::timing(&scenario),
         scheme: super::scheme(&scenario),
+        resume,
     };
     let monitors_path = run_dir.join("monitors.csv");
     let (run_id, flags) = (run_id.to_string(), flags.clone());
@@ -275,7 +336,7 @@ fn coupling_thread(
             &mut sup,
             &scenario,
             |_| setup.clone(),
-            &monitors_path,
+            (&monitors_path, resume),
             &mut progress,
             shared,
         );

@@ -17,6 +17,7 @@ pub fn timing(windows: u32, timeout: f64) -> Timing {
         structure_substeps: 1,
         impulse_substeps: 1,
         timeout,
+        checkpoint_interval: 0.0,
     }
 }
 
@@ -55,6 +56,7 @@ pub fn run_with(
         participants: names.clone(),
         timing,
         scheme: scheme.clone(),
+        resume: None,
     };
     let limit = Duration::from_secs(30);
     sup.join(setup, limit, limit)?;

@@ -32,6 +32,16 @@ pub const CASES: &[Case] = &[
         line_of: Some("scheme = \"implicit\""),
     },
     Case {
+        name: "run-checkpoints-with-the-incompressible-model",
+        edit: |_| {
+            let with = "output_interval = 5.0";
+            cavity_with(with, &format!("{with}\ncheckpoint_interval = 1.0"))
+        },
+        key: Some("run.checkpoint_interval"),
+        says: "the program of `fluid` does not",
+        line_of: Some("checkpoint_interval = 1.0"),
+    },
+    Case {
         name: "flow-huge-box-bound",
         edit: |_| cavity_with("upper = [1.0, 1.0,", "upper = [1e308, 1.0,"),
         key: Some("fluid.box.upper"),

@@ -204,6 +204,19 @@ const CASES: &[Case] = &[
         line_of: Some("window = 1e-12"),
     },
     Case {
+        name: "checkpoint-interval-not-positive",
+        edit: |t| {
+            replace(
+                t,
+                "end_time = 10.0",
+                "end_time = 10.0\ncheckpoint_interval = 0.0",
+            )
+        },
+        key: Some("run.checkpoint_interval"),
+        says: "must be > 0",
+        line_of: Some("checkpoint_interval = 0.0"),
+    },
+    Case {
         name: "unknown-scheme",
         edit: |t| {
             let with = "impulse_substeps = 4     # impulse exchange every structure sub-step";

@@ -160,6 +160,7 @@ fn supervise(sup: &mut Supervisor, run: &str, dir: &Path) -> Result<Vec<f64>, St
         structure_substeps: 1,
         impulse_substeps: 1,
         timeout: 600.0,
+        checkpoint_interval: 0.0,
     };
     let setup = |_: &str| Setup {
         run_id: run.to_string(),
@@ -169,6 +170,7 @@ fn supervise(sup: &mut Supervisor, run: &str, dir: &Path) -> Result<Vec<f64>, St
         participants: vec!["ping".into(), "pong".into()],
         timing,
         scheme: Default::default(),
+        resume: None,
     };
     let limit = Duration::from_secs(60);
     sup.join(setup, limit, limit).map_err(|e| e.to_string())?;

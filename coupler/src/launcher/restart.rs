@@ -1,0 +1,76 @@
+//! `coupler run --restart RUN_DIR`: a stopped, failed or killed run goes
+//! on from its last complete run checkpoint (`[run] checkpoint_interval`;
+//! the files are `participant::restart`'s). The run directory is brought
+//! back to that window's end: `monitors.csv` keeps the rows up to it, and
+//! the checkpoints after it are removed (they are written again). Each
+//! participant rewrites its `.pvd` files as it resumes, and outputs after
+//! the checkpoint are written again as the run reaches them.
+
+use participant::restart;
+use scenario::Scenario;
+use std::path::Path;
+
+/// Where the restarted run in `run_dir` goes on: the window of its latest
+/// complete run checkpoint whose monitor rows `monitors.csv` holds.
+/// `names` are the run's participants. Leaves the directory as it was at
+/// that window's end.
+pub fn prepare(run_dir: &Path, scenario: &Scenario, names: &[String]) -> Result<u64, String> {
+    let shown = run_dir.display();
+    if finished(run_dir) {
+        return Err(format!(
+            "the run in {shown} completed: there is nothing to go on with"
+        ));
+    }
+    let monitors = run_dir.join("monitors.csv");
+    let rows = std::fs::read(&monitors)
+        .map(|t| t.iter().filter(|&&b| b == b'\n').count().saturating_sub(1) as u64)
+        .unwrap_or(0);
+    // A checkpoint at the end of window w goes with the first w + 2 rows.
+    let window = restart::complete(run_dir, names)
+        .into_iter()
+        .rev()
+        .find(|&w| w + 2 <= rows);
+    let Some(window) = window else {
+        return Err(match scenario.run.checkpoint_interval {
+            None => format!(
+                "{shown} has no run checkpoint to go on from: its scenario sets no \
+                 [run] checkpoint_interval"
+            ),
+            Some(every) => format!(
+                "{shown} has no complete run checkpoint to go on from: the run stopped \
+                 before its first (checkpoint_interval = {every} s)"
+            ),
+        });
+    };
+    let cut = super::monitors::keep_rows(&monitors, window + 2)
+        .map_err(|e| format!("cannot cut back {}: {e}", monitors.display()))?;
+    debug_assert!(cut, "the rows were counted");
+    remove_after(run_dir, window)?;
+    Ok(window)
+}
+
+/// Whether the run's manifest says it completed.
+fn finished(run_dir: &Path) -> bool {
+    let text = std::fs::read_to_string(run_dir.join("manifest.json")).unwrap_or_default();
+    serde_json::from_str::<serde_json::Value>(&text).is_ok_and(|m| m["status"] == "completed")
+}
+
+/// Remove the run checkpoints after `window`, complete or not.
+fn remove_after(run_dir: &Path, window: u64) -> Result<(), String> {
+    let dir = run_dir.join(restart::DIR);
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        return Ok(());
+    };
+    for entry in entries.flatten() {
+        let later = entry
+            .file_name()
+            .to_str()
+            .and_then(|n| n.parse::<u64>().ok())
+            .is_some_and(|w| w > window);
+        if later {
+            std::fs::remove_dir_all(entry.path())
+                .map_err(|e| format!("cannot remove {}: {e}", entry.path().display()))?;
+        }
+    }
+    Ok(())
+}

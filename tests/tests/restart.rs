@@ -1,0 +1,142 @@
+//! Run checkpoints and restart (issue 22): a run killed with SIGKILL
+//! mid-run and restarted with `coupler run --restart` ends with the same
+//! monitors and output files as a run never interrupted, bit for bit.
+
+use canopy_tests::*;
+use participant::restart;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// Every file a run leaves that holds results: `monitors.csv`, the
+/// implicit run's `iterations.csv`, the `.pvd` series and the outputs in
+/// `vtk/`, by name.
+fn results(run: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut files = Vec::new();
+    let mut add = |dir: &Path, keep: &dyn Fn(&str) -> bool| {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .filter_map(|e| e.ok()?.file_name().into_string().ok())
+            .filter(|n| keep(n))
+            .collect();
+        names.sort();
+        for n in names {
+            let bytes = std::fs::read(dir.join(&n)).unwrap();
+            files.push((n, bytes));
+        }
+    };
+    add(run, &|n| n.ends_with(".csv") || n.ends_with(".pvd"));
+    add(&run.join("vtk"), &|_| true);
+    files
+}
+
+/// Whether a run checkpoint in `out` can be gone on from: complete for
+/// every one of `names`, and `monitors.csv` holds the rows up to its
+/// window (a row at the start and one per window; the coupler writes them
+/// within 0.2 s).
+fn usable_checkpoint(out: &Path, names: &[String]) -> bool {
+    let rows = std::fs::read(out.join("monitors.csv"))
+        .map_or(0, |t| t.iter().filter(|&&b| b == b'\n').count() as u64);
+    let complete = restart::complete(out, names);
+    complete.first().is_some_and(|w| rows >= w + 3)
+}
+
+/// Start `scenario` into `out`, kill the coupler with SIGKILL once its
+/// first run checkpoint of `names` can be gone on from (its participants
+/// die with it), and check that it was killed mid-run.
+fn kill_after_first_checkpoint(scenario: &Path, out: &Path, names: &[&str]) {
+    let names: Vec<String> = names.iter().map(|n| n.to_string()).collect();
+    let mut coupler = run_command(scenario, out)
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("start coupler");
+    let since = Instant::now();
+    while !usable_checkpoint(out, &names) {
+        assert!(
+            since.elapsed() < Duration::from_secs(120),
+            "no checkpoint came"
+        );
+        assert!(coupler.try_wait().unwrap().is_none(), "the run ended first");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    coupler.kill().expect("SIGKILL the coupler");
+    coupler.wait().unwrap();
+    let m = manifest(out);
+    assert_eq!(m["status"], "running", "killed before its end");
+}
+
+/// The whole run and a killed and restarted one of `scenario` leave the
+/// same results, bit for bit.
+fn restart_matches_whole_run(name: &str, scenario: &Path, dir: &Path, names: &[&str]) {
+    let (whole, killed) = (dir.join("whole"), dir.join("killed"));
+    run_ok(scenario, &whole);
+    kill_after_first_checkpoint(scenario, &killed, names);
+    let o = coupler(&["run", "--restart", killed.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "restart of {name} failed:\n{err}");
+    assert!(err.contains("restarting"), "{err}");
+    assert_eq!(manifest(&killed)["status"], "completed");
+    let kept = std::fs::read_dir(whole.join(restart::DIR)).unwrap().count();
+    assert!(kept <= restart::KEEP, "{name}: {kept} run checkpoints kept");
+    let (a, b) = (results(&whole), results(&killed));
+    assert!(a.len() > 3, "{name}: the run left its results");
+    let names = |r: &[(String, Vec<u8>)]| r.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&a), names(&b), "{name}: the same files");
+    for ((file, x), (_, y)) in a.iter().zip(&b) {
+        assert!(x == y, "{name}: {file} differs after the restart");
+    }
+}
+
+/// The pendulum under implicit coupling with velocity Verlet: the
+/// structure's and the ball's state, the outputs written so far, and the
+/// IQN-ILS columns of the windows before go into each checkpoint.
+#[test]
+fn a_killed_implicit_pendulum_restarts_to_the_same_results() {
+    let dir = scratch("restart-pendulum");
+    let scenario = variant("pendulum", &dir, |s| {
+        s.run.end_time = 60.0;
+        s.run.output_interval = 5.0;
+        s.run.checkpoint_interval = Some(5.0);
+        s.coupling.impulse_substeps = 1;
+        s.coupling.scheme = scenario::SchemeName::Implicit;
+        let structure = s.structure.as_mut().unwrap();
+        structure.integrator = structure_section::Integrator::VelocityVerlet;
+    });
+    restart_matches_whole_run("pendulum", &scenario, &dir, &["structure", "rigid"]);
+}
+
+/// A canopy in the porous free stream: the fluid keeps no state, and takes
+/// the canopy's triangles again when the run resumes.
+#[test]
+fn a_killed_canopy_in_the_stream_restarts_to_the_same_results() {
+    let dir = scratch("restart-canopy");
+    let scenario = variant("canopy-porous", &dir, |s| {
+        s.run.output_interval = 0.05;
+        s.run.checkpoint_interval = Some(0.25);
+    });
+    restart_matches_whole_run("canopy-porous", &scenario, &dir, &["fluid", "structure"]);
+}
+
+/// What cannot be restarted says why and exits 2: a completed run, and a
+/// run whose scenario writes no run checkpoints.
+#[test]
+fn a_run_with_nothing_to_go_on_from_is_refused() {
+    let dir = scratch("restart-refused");
+    let scenario = variant("pendulum", &dir, |s| s.run.end_time = 0.5);
+    let out = dir.join("run");
+    run_ok(&scenario, &out);
+    let o = coupler(&["run", "--restart", out.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("completed: there is nothing to go on with"),
+        "{err}"
+    );
+
+    // Killed before it ended, with no checkpoint_interval.
+    let m = std::fs::read_to_string(out.join("manifest.json")).unwrap();
+    std::fs::write(out.join("manifest.json"), m.replace("completed", "running")).unwrap();
+    let o = coupler(&["run", "--restart", out.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("sets no [run] checkpoint_interval"), "{err}");
+}
