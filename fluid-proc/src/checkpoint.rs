@@ -11,6 +11,9 @@
 //! elsewhere within its tolerance), and the bodies and canopy in the flow
 //! with the forcing they have recorded since their loads were taken. The
 //! rest of the flow is work space every step overwrites before it reads.
+//!
+//! A run checkpoint (`[run] checkpoint_interval`) writes the same state to
+//! disk, one file per rank (`flow_run.rs`).
 
 use crate::faces::Faces;
 use crate::immersed::ImmersedBody;
@@ -18,7 +21,7 @@ use crate::incompressible::Incompressible;
 
 /// The flow's state at a window's start, on this rank. Saving into the
 /// same checkpoint every window reuses its buffers.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Checkpoint {
     u: Option<Faces>,
     q: Vec<f64>,
@@ -31,7 +34,7 @@ pub struct Checkpoint {
 
 /// What a flow step reads beyond (u, q): φ, the last Δt, and per advected
 /// component its Nⁿ and δ.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct History {
     pub(crate) phi: Vec<f64>,
     pub(crate) last_dt: Option<f64>,
@@ -51,6 +54,12 @@ impl Incompressible {
         self.save_history(&mut into.history);
         into.bodies.clone_from(&self.bodies);
         into.canopy.clone_from(&self.canopy);
+    }
+
+    /// Whether `from` holds this rank's part of the flow: a checkpoint
+    /// written by a run on other cells or ranks does not.
+    pub fn fits(&self, from: &Checkpoint) -> bool {
+        from.u.as_ref().is_some_and(|u| u.n == self.u.n) && from.q.len() == self.q.len()
     }
 
     /// Return to the state `from` holds. A checkpoint never saved leaves

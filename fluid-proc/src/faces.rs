@@ -9,7 +9,7 @@
 use crate::grid::Grid;
 
 /// Face velocities [m/s]: `u[d]` on the faces normal to axis d.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Faces {
     pub n: [usize; 3],
     pub u: [Vec<f64>; 3],

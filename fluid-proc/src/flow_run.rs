@@ -22,16 +22,76 @@ use crate::incompressible::{Incompressible, StepReport};
 use crate::ranks::{Order, Stopped};
 use crate::setup::flow_on;
 use fluid_section::{FluidSection, Scene};
+use participant::restart;
 use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
+use std::path::Path;
 use std::sync::Arc;
 
-/// One rank's flow, its faces at the start of the window, and the
-/// window's checkpoint (implicit coupling).
+/// One rank's flow, its faces at the start of the window, the window's
+/// checkpoint (implicit coupling), and where run checkpoints go.
 struct Flow {
     flow: Incompressible,
     before: Faces,
     checkpoint: Checkpoint,
+    comm: Arc<dyn Comm>,
+    /// On rank 0, the run directory and the participant's name, a line
+    /// each, which it tells the others at a run checkpoint.
+    at: String,
+}
+
+impl Flow {
+    fn new(flow: Incompressible, comm: Arc<dyn Comm>) -> Flow {
+        Flow {
+            before: flow.u.clone(),
+            flow,
+            checkpoint: Checkpoint::default(),
+            comm,
+            at: String::new(),
+        }
+    }
+}
+
+/// What rank 0 keeps in a run checkpoint besides its part of the flow:
+/// the outputs written so far and the steps taken (for the statistics).
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Lead {
+    outputs: Vec<(f64, String)>,
+    steps: u64,
+}
+
+/// This rank's part of the run checkpoint of `window`: written, or read
+/// back (`resume`). Rank 0 tells the others where; whether every rank
+/// managed is agreed on together, so that none goes on alone.
+fn run_checkpoint(f: &mut Flow, window: u64, resume: bool) -> Result<(), String> {
+    let mut at = f.at.clone();
+    f.comm.broadcast_text(&mut at);
+    let (run_dir, name) = at.split_once('\n').unwrap_or_default();
+    let rank = f.comm.rank();
+    let path = restart::state_file(Path::new(run_dir), window, name, Some(rank));
+    let done = match resume {
+        false => {
+            f.flow.save(&mut f.checkpoint);
+            restart::write(&path, &f.checkpoint).map_err(|e| e.to_string())
+        }
+        true => (restart::read::<Checkpoint>(&path).map_err(|e| e.to_string())).and_then(|c| {
+            if !f.flow.fits(&c) {
+                let shown = path.display();
+                return Err(format!(
+                    "{shown} holds another part of the flow than rank {rank}'s"
+                ));
+            }
+            f.flow.restore(&c);
+            f.checkpoint = c;
+            Ok(())
+        }),
+    };
+    let everyone = f.comm.min(if done.is_ok() { 1.0 } else { 0.0 }) == 1.0;
+    match (done, everyone) {
+        (Err(e), _) => Err(e),
+        (Ok(()), false) => Err("another rank could not take its part of the run checkpoint".into()),
+        (Ok(()), true) => Ok(()),
+    }
 }
 
 /// What obeying an order gave; only rank 0's is used.
@@ -94,6 +154,10 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
             flow.restore(&f.checkpoint);
             Done::Checkpoint
         }
+        Order::RunCheckpoint { window, resume } => {
+            run_checkpoint(f, window, resume)?;
+            Done::Checkpoint
+        }
         Order::Stop => Done::Stop,
     })
 }
@@ -143,11 +207,7 @@ pub fn lead(
     let c = comm.as_ref();
     let flow = flow_on(section, comm.clone())
         .ok_or_else(|| Stopped::before_order(c, "[fluid] has no box"))?;
-    let mut f = Flow {
-        before: flow.u.clone(),
-        flow,
-        checkpoint: Checkpoint::default(),
-    };
+    let mut f = Flow::new(flow, comm.clone());
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
     let bodies =
         FlowBodies::new(scenario, &mut f.flow, origin).map_err(|e| Stopped::before_order(c, e))?;
@@ -160,8 +220,9 @@ pub fn lead(
         names.push("mean_pressure_jump".into());
     }
     let mut p = joining
-        .declare(declaration(f.flow.bodies.len(), true, names))
+        .declare(declaration(f.flow.bodies.len(), true, names).restarts())
         .map_err(|e| Stopped::before_order(c, e))?;
+    f.at = format!("{}\n{}", p.run_dir().display(), p.name());
     let steps = p.reporting(|p| run(p, &mut f, section, bodies, jump_monitor, comm))?;
     p.finish(steps)?;
     Ok(())
@@ -207,6 +268,20 @@ fn run(
         let flow = &mut f.flow;
         match (command, done) {
             (_, Done::Stop) => break,
+            (Command::WriteCheckpoint { window }, Done::Checkpoint) => {
+                let lead = Lead {
+                    outputs: series.entries().to_vec(),
+                    steps,
+                };
+                restart::write(&p.state_file(window), &lead)?;
+                p.done(Vec::new())?
+            }
+            (Command::Resume { window }, Done::Checkpoint) => {
+                let lead: Lead = restart::read(&p.state_file(window))?;
+                series.resume(lead.outputs)?;
+                steps = lead.steps;
+                p.done(Vec::new())?
+            }
             (_, Done::Checkpoint) => p.done(Vec::new())?,
             (_, Done::Monitors(mut m)) => {
                 m.extend(io.monitors(flow, None));
@@ -318,11 +393,7 @@ pub fn fail(p: &mut Participant, msg: String) -> Error {
 #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 pub fn follow(section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Error> {
     let flow = flow_on(section, comm.clone()).ok_or("[fluid] has no box")?;
-    let mut f = Flow {
-        before: flow.u.clone(),
-        flow,
-        checkpoint: Checkpoint::default(),
-    };
+    let mut f = Flow::new(flow, comm.clone());
     loop {
         let order = Order::Stop.share(comm.as_ref());
         match obey(&mut f, order) {

@@ -38,7 +38,9 @@ fn obey(gas: &mut Compressible, order: Order) -> Result<Done, GasError> {
             };
             Done::Advanced(m, report.steps)
         }
-        Order::Checkpoint { .. } => unreachable!("the euler model declares no checkpoints"),
+        Order::Checkpoint { .. } | Order::RunCheckpoint { .. } => {
+            unreachable!("the euler model declares no checkpoints")
+        }
         Order::Stop => Done::Stop,
     })
 }

@@ -81,7 +81,7 @@ pub fn place_markers(
 /// One body in the flow: its markers at its present pose (in the box's
 /// frame, the box's low corner at the origin), how it moves, and what the
 /// forcing has given the fluid since its load was last taken.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct ImmersedBody {
     pub markers: Vec<Marker>,
     /// The velocity each marker moves with [m/s].

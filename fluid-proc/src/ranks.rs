@@ -26,6 +26,12 @@ pub enum Order {
     Checkpoint {
         restore: bool,
     },
+    /// Write a run checkpoint at the end of `window`, or read it back
+    /// (`resume`), each rank its part.
+    RunCheckpoint {
+        window: u64,
+        resume: bool,
+    },
     Stop,
 }
 
@@ -43,9 +49,14 @@ impl Order {
             },
             Command::SaveCheckpoint => Order::Checkpoint { restore: false },
             Command::RestoreCheckpoint => Order::Checkpoint { restore: true },
-            Command::WriteCheckpoint { .. } | Command::Resume { .. } => {
-                unreachable!("the incompressible model declares no run checkpoints yet")
-            }
+            Command::WriteCheckpoint { window } => Order::RunCheckpoint {
+                window,
+                resume: false,
+            },
+            Command::Resume { window } => Order::RunCheckpoint {
+                window,
+                resume: true,
+            },
             Command::Stop => Order::Stop,
         }
     }
@@ -62,6 +73,10 @@ impl Order {
             } => [2.0, dt, window_end as u8 as f64, substeps as f64],
             Order::Stop => [3.0, 0.0, 0.0, 0.0],
             Order::Checkpoint { restore } => [4.0, restore as u8 as f64, 0.0, 0.0],
+            // Exact for windows below 2⁵³.
+            Order::RunCheckpoint { window, resume } => {
+                [5.0, window as f64, resume as u8 as f64, 0.0]
+            }
         }
     }
 
@@ -79,6 +94,10 @@ impl Order {
             },
             4 => Order::Checkpoint {
                 restore: x[1] != 0.0,
+            },
+            5 => Order::RunCheckpoint {
+                window: x[1] as u64,
+                resume: x[2] != 0.0,
             },
             _ => Order::Stop,
         }

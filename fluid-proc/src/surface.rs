@@ -18,7 +18,7 @@ use std::f64::consts::PI;
 const MAX_SEGMENTS: u32 = 4096;
 
 /// A point of a body's surface and the piece of surface it stands for.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Marker {
     /// Position [m].
     pub x: [f64; 3],

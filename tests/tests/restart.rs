@@ -116,6 +116,42 @@ fn a_killed_canopy_in_the_stream_restarts_to_the_same_results() {
     restart_matches_whole_run("canopy-porous", &scenario, &dir, &["fluid", "structure"]);
 }
 
+/// A porous annulus in the incompressible flow under implicit coupling,
+/// the fluid on two MPI ranks where MPI is installed (one otherwise): each
+/// rank writes and reads back its part of the flow (faces, pressure,
+/// Adams–Bashforth history, the solvers' first guesses, the canopy's
+/// markers), rank 0 its outputs.
+#[test]
+fn a_killed_canopy_in_the_flow_restarts_to_the_same_results() {
+    let dir = scratch("restart-flow");
+    let fluid = mpi_fluid_proc();
+    let scenario = variant("canopy-flow", &dir, |s| {
+        s.run.end_time = 0.06;
+        s.run.output_interval = 0.02;
+        s.run.checkpoint_interval = Some(0.01);
+        s.coupling.window = 9e-4;
+        s.coupling.scheme = scenario::SchemeName::Implicit;
+        let b = s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap();
+        b.cells = [20, 20, 27];
+        if let Some(fluid) = &fluid {
+            let spec = s.participants.get_mut("fluid").unwrap();
+            spec.program = fluid.display().to_string();
+            spec.ranks = Some(2);
+        }
+    });
+    restart_matches_whole_run("canopy-flow", &scenario, &dir, &["fluid", "structure"]);
+    if fluid.is_some() {
+        let kept = dir.join("killed").join(restart::DIR);
+        let newest = std::fs::read_dir(&kept)
+            .unwrap()
+            .flatten()
+            .map(|e| e.path())
+            .max();
+        let rank_1 = newest.unwrap().join("fluid.1.state");
+        assert!(rank_1.is_file(), "rank 1 wrote its part");
+    }
+}
+
 /// What cannot be restarted says why and exits 2: a completed run, and a
 /// run whose scenario writes no run checkpoints.
 #[test]

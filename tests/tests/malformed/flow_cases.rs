@@ -32,14 +32,14 @@ pub const CASES: &[Case] = &[
         line_of: Some("scheme = \"implicit\""),
     },
     Case {
-        name: "run-checkpoints-with-the-incompressible-model",
+        name: "run-checkpoints-with-the-euler-model",
         edit: |_| {
-            let with = "output_interval = 5.0";
-            cavity_with(with, &format!("{with}\ncheckpoint_interval = 1.0"))
+            let with = "output_interval = 0.05";
+            sod_with(with, &format!("{with}\ncheckpoint_interval = 0.1"))
         },
         key: Some("run.checkpoint_interval"),
         says: "the program of `fluid` does not",
-        line_of: Some("checkpoint_interval = 1.0"),
+        line_of: Some("checkpoint_interval = 0.1"),
     },
     Case {
         name: "flow-huge-box-bound",
