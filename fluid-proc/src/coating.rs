@@ -149,23 +149,6 @@ impl Coating {
         }
     }
 
-    /// The pressure on side `s` (±1) of triangle `t` at its centre [Pa]:
-    /// the least-squares plane through that side's coated cells from NEAR
-    /// to FAR spacings off the triangle's plane. None where too few cells
-    /// (fewer than the flow's dimensions + 1) are found.
-    pub fn side_pressure(
-        &self,
-        grid: &Grid,
-        p: &[f64],
-        x: &[f64],
-        t: &[usize; 3],
-        s: i8,
-    ) -> Option<f64> {
-        let mut cells = Vec::new();
-        self.side_cells(grid, x, t, s, &mut cells);
-        fit(grid, p, x, t, &cells)
-    }
-
     /// The cells side `s` of triangle `t` reads its pressure from, into `out`.
     fn side_cells(&self, grid: &Grid, x: &[f64], t: &[usize; 3], s: i8, out: &mut Vec<Cell>) {
         let Some((c, n)) = centre_normal(x, t) else {
@@ -186,13 +169,22 @@ impl Coating {
         });
     }
 
-    /// The cells every triangle's two sides read, as [`jumps`](Self::jumps) chooses them.
+    /// The cells every triangle's two sides read and how, as
+    /// [`jumps`](Self::jumps) chooses them, for the triangles where `x`
+    /// puts them.
     pub fn select(&self, grid: &Grid, x: &[f64], triangles: &[[usize; 3]]) -> Selection {
         let mut sel = Selection::default();
+        let mut cells = Vec::new();
         for t in triangles {
             for s in [-1, 1] {
-                self.side_cells(grid, x, t, s, &mut sel.cells);
+                cells.clear();
+                self.side_cells(grid, x, t, s, &mut cells);
+                let (coefficients, weight) =
+                    plane(grid, x, t, &cells).unwrap_or_else(|| (vec![0.0; cells.len()], 0.0));
+                sel.cells.extend(cells.iter().map(|c| c.0));
+                sel.coefficients.extend(coefficients);
                 sel.ends.push(sel.cells.len());
+                sel.weights.push(weight);
             }
         }
         sel
@@ -209,42 +201,44 @@ impl Coating {
         triangles: &[[usize; 3]],
         out: &mut [f64],
     ) {
-        let selection = self.select(grid, x, triangles);
-        selection.jumps(grid, p, x, triangles, out);
+        self.select(grid, x, triangles).jumps(p, out);
     }
 }
 
-/// The cells each side of each triangle reads its pressure from. Implicit
-/// coupling keeps a window's first choice for its repeats: chosen again at
-/// positions a little apart, a cell entering or leaving a side's band
-/// would change the jump by a step, and the iteration would stall on it.
+/// The cells each side of each triangle reads its pressure from, and how:
+/// the least-squares plane through them, taken at the triangle's centre,
+/// is a fixed sum Σ a_c·p_c over them, and the side counts with a weight
+/// from 0 (too few cells, or cells that do not spread along the normal)
+/// to 1. Implicit coupling keeps a window's first choice for its repeats:
+/// chosen again at positions a little apart, a cell entering or leaving a
+/// side's band, or a side's weight or plane turning steeply, would change
+/// the jump by a step, and the iteration would stall on it.
 #[derive(Debug, Clone, Default)]
 pub struct Selection {
-    cells: Vec<Cell>,
+    cells: Vec<u32>,
+    /// a_c of each cell in `cells`.
+    coefficients: Vec<f64>,
     /// Where each (triangle, side)'s cells end in `cells`: −1 then +1.
     ends: Vec<usize>,
+    /// Each (triangle, side)'s weight.
+    weights: Vec<f64>,
 }
 
 impl Selection {
-    /// The jump p⁻ − p⁺ across every triangle [Pa] into `out`, from these
-    /// cells and the triangles where `x` puts them.
-    pub fn jumps(
-        &self,
-        grid: &Grid,
-        p: &[f64],
-        x: &[f64],
-        triangles: &[[usize; 3]],
-        out: &mut [f64],
-    ) {
-        for (k, (t, o)) in triangles.iter().zip(out.iter_mut()).enumerate() {
-            let side = |j: usize| {
-                let from = if j == 0 { 0 } else { self.ends[j - 1] };
-                fit(grid, p, x, t, self.cells.get(from..self.ends[j])?)
-            };
-            *o = match (side(2 * k), side(2 * k + 1)) {
-                (Some(below), Some(above)) => below - above,
-                _ => 0.0,
-            };
+    /// The jump w⁻·w⁺·(p⁻ − p⁺) across every triangle [Pa] into `out`,
+    /// from the pressures `p` [Pa] of the whole box.
+    pub fn jumps(&self, p: &[f64], out: &mut [f64]) {
+        let side = |j: usize| {
+            let from = if j == 0 { 0 } else { self.ends[j - 1] };
+            let cells = self.cells[from..self.ends[j]].iter();
+            let sum: f64 = (cells.zip(&self.coefficients[from..]))
+                .map(|(&c, a)| a * p[c as usize])
+                .sum();
+            (sum, self.weights[j])
+        };
+        for (k, o) in out.iter_mut().enumerate().take(self.weights.len() / 2) {
+            let ((below, w_below), (above, w_above)) = (side(2 * k), side(2 * k + 1));
+            *o = w_below * w_above * (below - above);
         }
     }
 
@@ -279,42 +273,64 @@ fn offset(grid: &Grid, centre: Point3<f64>, c: Point3<f64>) -> Vector3<f64> {
     r
 }
 
-/// The pressure at triangle `t`'s centre from the least-squares plane
-/// p ≈ p̄ + g·(x − x̄) through `cells` (offsets in spacings, about their
-/// centroid x̄); None with too few cells, or cells that do not spread
-/// along the normal.
-fn fit(grid: &Grid, p: &[f64], x: &[f64], t: &[usize; 3], cells: &[Cell]) -> Option<f64> {
+/// A direction the cells spread along less than this fraction of their
+/// largest spread gets no gradient, one beyond twice it all of it, and one
+/// between a part rising smoothly (`ramp`): a hard cut would make the
+/// jump read step as the sheet turns a little, and the tries of an
+/// implicit window stall on such a step.
+const SPREAD_CUT: f64 = 1e-2;
+
+/// 0 up to `cut`, 1 from 2·`cut` on, and C¹ between (smoothstep).
+fn ramp(s: f64, cut: f64) -> f64 {
+    let t = ((s - cut) / cut).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// The least-squares plane p ≈ p̄ + g·(x − x̄) through the pressures of
+/// `cells` (offsets in spacings, about their centroid x̄), taken at
+/// triangle `t`'s centre, as a fixed sum Σ a_c·p_c: the coefficients a_c,
+/// and how far the cells spread along the normal to be extrapolated to
+/// the sheet, from 0 (not at all) to 1 ([`SPREAD_CUT`]). None with too few
+/// cells.
+fn plane(grid: &Grid, x: &[f64], t: &[usize; 3], cells: &[Cell]) -> Option<(Vec<f64>, f64)> {
     let (c, n) = centre_normal(x, t)?;
-    let mut sum_r = Vector3::<f64>::zeros();
-    let mut sum_rr = Matrix3::<f64>::zeros();
-    let mut sum_rp = Vector3::<f64>::zeros();
-    let mut sum_p = 0.0;
-    for &(cell, centre) in cells {
-        let cell = cell as usize;
-        let r = offset(grid, centre, c);
-        sum_r += r;
-        sum_rr += r * r.transpose();
-        sum_rp += r * p[cell];
-        sum_p += p[cell];
-    }
     let dims = (0..3).filter(|&d| grid.n[d] > 1).count();
     if cells.len() < dims + 1 {
         return None;
     }
-    let k = cells.len() as f64;
-    let (mean_r, mean_p) = (sum_r / k, sum_p / k);
-    let spread = sum_rr - mean_r * sum_r.transpose();
-    let covary = sum_rp - mean_r * sum_p;
+    let r: Vec<Vector3<f64>> = cells.iter().map(|&(_, at)| offset(grid, at, c)).collect();
+    let k = r.len() as f64;
+    let mean_r = r.iter().sum::<Vector3<f64>>() / k;
+    let spread: Matrix3<f64> = r
+        .iter()
+        .map(|r| (r - mean_r) * (r - mean_r).transpose())
+        .sum();
     // Directions the cells hardly spread along (a 2-D flow's thin axis)
-    // get no gradient: the pseudo-inverse. Cells that do not spread
-    // along the normal cannot be extrapolated to the sheet: none.
+    // get no gradient: a pseudo-inverse M of the spread, its cut ramped.
     let svd = spread.svd(true, true);
-    let cutoff = 1e-2 * svd.singular_values.max();
-    if !(n.dot(&(spread * n)) > cutoff) {
+    let cut = SPREAD_CUT * svd.singular_values.max();
+    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
+        return None;
+    };
+    if !(cut > 0.0) {
         return None;
     }
-    let g = svd.solve(&covary, cutoff).ok()?;
-    Some(mean_p - g.dot(&mean_r))
+    let mut m = Matrix3::<f64>::zeros();
+    for (i, &s) in svd.singular_values.iter().enumerate() {
+        let part = ramp(s, cut);
+        if part > 0.0 {
+            m += v_t.row(i).transpose() * u.column(i).transpose() * (part / s);
+        }
+    }
+    // g = M·Σ (r_c − r̄) p_c, so p(centre) = p̄ − g·r̄ = Σ [1/k − (Mᵀr̄)·(r_c − r̄)] p_c.
+    let pull = m.transpose() * mean_r;
+    let a = r
+        .iter()
+        .map(|rc| 1.0 / k - pull.dot(&(rc - mean_r)))
+        .collect();
+    // Cells that do not spread along the normal cannot be extrapolated
+    // to the sheet: their weight falls to 0.
+    Some((a, ramp(n.dot(&(spread * n)), cut)))
 }
 
 #[cfg(test)]

@@ -28,8 +28,9 @@ pub struct FlowCanopy {
     /// How the triangles were cut into markers at the window's first try;
     /// under implicit coupling its repeats cut them alike.
     cuts: SheetCuts,
-    /// The cells the jumps were read from at the window's first try; its
-    /// repeats read the same (`coating::Selection`).
+    /// The cells the jumps were read from at the window's first try, and
+    /// how (each side's plane as a fixed sum over them, and its weight);
+    /// its repeats read alike (`coating::Selection`).
     read: Selection,
     replay_read: bool,
     implicit: bool,
@@ -136,7 +137,7 @@ impl FlowCanopy {
             self.read = Coating::new(g, &self.x, triangles).select(g, &self.x, triangles);
         }
         self.replay_read = self.implicit;
-        (self.read).jumps(g, pressure, &self.x, triangles, &mut self.jumps);
+        self.read.jumps(pressure, &mut self.jumps);
         &self.jumps
     }
 
