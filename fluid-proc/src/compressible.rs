@@ -75,6 +75,14 @@ pub struct AdvanceReport {
     pub min_dt: f64,
 }
 
+/// What the gas saves at a window's start (implicit coupling) and writes
+/// at a run checkpoint, one per rank.
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
+pub struct GasCheckpoint {
+    u: Vec<State>,
+    time: f64,
+}
+
 /// The gas on its cells (this rank's slab of them), at `time`.
 #[derive(Debug, Clone)]
 pub struct Compressible {
@@ -262,6 +270,25 @@ impl Compressible {
             report.min_dt = report.min_dt.min(dt);
         }
         Ok(report)
+    }
+
+    /// This rank's state: its conserved cells (with their ghosts, which
+    /// every step fills again) and the time. Nothing else carries over
+    /// from step to step; each step finds its own Δt.
+    pub fn save(&self, into: &mut GasCheckpoint) {
+        into.u.clone_from(&self.u);
+        into.time = self.time;
+    }
+
+    /// Return to the state `from` holds, if it holds this rank's cells
+    /// (false: saved by a run on other cells or ranks, and nothing changes).
+    pub fn restore(&mut self, from: &GasCheckpoint) -> bool {
+        if from.u.len() != self.u.len() {
+            return false;
+        }
+        self.u.clone_from(&from.u);
+        self.time = from.time;
+        true
     }
 
     /// One TVD Runge–Kutta step of `dt` (Shu & Osher eq. 2.18).

@@ -19,13 +19,12 @@ use crate::faces::Faces;
 use crate::flow_bodies::FlowBodies;
 use crate::flow_canopy::FlowCanopy;
 use crate::incompressible::{Incompressible, StepReport};
+use crate::rank_checkpoint::{self, Place};
 use crate::ranks::{Order, Stopped};
 use crate::setup::flow_on;
 use fluid_section::{FluidSection, Scene};
-use participant::restart;
 use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
-use std::path::Path;
 use std::sync::Arc;
 
 /// One rank's flow, its faces at the start of the window, the window's
@@ -35,9 +34,8 @@ struct Flow {
     before: Faces,
     checkpoint: Checkpoint,
     comm: Arc<dyn Comm>,
-    /// On rank 0, the run directory and the participant's name, a line
-    /// each, which it tells the others at a run checkpoint.
-    at: String,
+    /// Where run checkpoints go (rank 0 tells the others).
+    place: Place,
 }
 
 impl Flow {
@@ -47,50 +45,8 @@ impl Flow {
             flow,
             checkpoint: Checkpoint::default(),
             comm,
-            at: String::new(),
+            place: Place::default(),
         }
-    }
-}
-
-/// What rank 0 keeps in a run checkpoint besides its part of the flow:
-/// the outputs written so far and the steps taken (for the statistics).
-#[derive(serde::Serialize, serde::Deserialize)]
-struct Lead {
-    outputs: Vec<(f64, String)>,
-    steps: u64,
-}
-
-/// This rank's part of the run checkpoint of `window`: written, or read
-/// back (`resume`). Rank 0 tells the others where; whether every rank
-/// managed is agreed on together, so that none goes on alone.
-fn run_checkpoint(f: &mut Flow, window: u64, resume: bool) -> Result<(), String> {
-    let mut at = f.at.clone();
-    f.comm.broadcast_text(&mut at);
-    let (run_dir, name) = at.split_once('\n').unwrap_or_default();
-    let rank = f.comm.rank();
-    let path = restart::state_file(Path::new(run_dir), window, name, Some(rank));
-    let done = match resume {
-        false => {
-            f.flow.save(&mut f.checkpoint);
-            restart::write(&path, &f.checkpoint).map_err(|e| e.to_string())
-        }
-        true => (restart::read::<Checkpoint>(&path).map_err(|e| e.to_string())).and_then(|c| {
-            if !f.flow.fits(&c) {
-                let shown = path.display();
-                return Err(format!(
-                    "{shown} holds another part of the flow than rank {rank}'s"
-                ));
-            }
-            f.flow.restore(&c);
-            f.checkpoint = c;
-            Ok(())
-        }),
-    };
-    let everyone = f.comm.min(if done.is_ok() { 1.0 } else { 0.0 }) == 1.0;
-    match (done, everyone) {
-        (Err(e), _) => Err(e),
-        (Ok(()), false) => Err("another rank could not take its part of the run checkpoint".into()),
-        (Ok(()), true) => Ok(()),
     }
 }
 
@@ -155,7 +111,20 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
             Done::Checkpoint
         }
         Order::RunCheckpoint { window, resume } => {
-            run_checkpoint(f, window, resume)?;
+            let (comm, place) = (f.comm.as_ref(), &f.place);
+            match resume {
+                false => {
+                    flow.save(&mut f.checkpoint);
+                    rank_checkpoint::write_part(comm, place, window, &f.checkpoint)?;
+                }
+                true => rank_checkpoint::read_part(comm, place, window, |c: Checkpoint| {
+                    if !flow.fits(&c) {
+                        return Err("another part of the flow than this rank's".into());
+                    }
+                    flow.restore(&c);
+                    Ok(())
+                })?,
+            }
             Done::Checkpoint
         }
         Order::Stop => Done::Stop,
@@ -222,7 +191,7 @@ pub fn lead(
     let mut p = joining
         .declare(declaration(f.flow.bodies.len(), true, names).restarts())
         .map_err(|e| Stopped::before_order(c, e))?;
-    f.at = format!("{}\n{}", p.run_dir().display(), p.name());
+    f.place = Place::of(&p);
     let steps = p.reporting(|p| run(p, &mut f, section, bodies, jump_monitor, comm))?;
     p.finish(steps)?;
     Ok(())
@@ -269,17 +238,11 @@ fn run(
         match (command, done) {
             (_, Done::Stop) => break,
             (Command::WriteCheckpoint { window }, Done::Checkpoint) => {
-                let lead = Lead {
-                    outputs: series.entries().to_vec(),
-                    steps,
-                };
-                restart::write(&p.state_file(window), &lead)?;
+                rank_checkpoint::write_lead(p, window, &series, steps)?;
                 p.done(Vec::new())?
             }
             (Command::Resume { window }, Done::Checkpoint) => {
-                let lead: Lead = restart::read(&p.state_file(window))?;
-                series.resume(lead.outputs)?;
-                steps = lead.steps;
+                steps = rank_checkpoint::read_lead(p, window, &mut series)?;
                 p.done(Vec::new())?
             }
             (_, Done::Checkpoint) => p.done(Vec::new())?,

@@ -5,9 +5,10 @@
 //! (gathered to rank 0, which writes it).
 
 use crate::comm::Comm;
-use crate::compressible::{AdvanceReport, Compressible, GasError};
+use crate::compressible::{AdvanceReport, Compressible, GasCheckpoint, GasError};
 use crate::driver::{declaration, Error};
 use crate::gas::Primitive;
+use crate::rank_checkpoint::{self, Place};
 use crate::ranks::{Order, Stopped};
 use crate::setup::gas_on;
 use fluid_section::FluidSection;
@@ -21,16 +22,41 @@ enum Done {
     /// The box's cells, on rank 0.
     Output(Option<Vec<Primitive>>),
     Advanced(Vec<Monitor>, u64),
+    Checkpoint,
     Stop,
 }
 
-/// Obeys `order` on this rank (every rank calls it with the same order).
-fn obey(gas: &mut Compressible, order: Order) -> Result<Done, GasError> {
+/// One rank's gas, the window's checkpoint (implicit coupling), and where
+/// run checkpoints go.
+struct Gas {
+    gas: Compressible,
+    saved: GasCheckpoint,
+    comm: Arc<dyn Comm>,
+    place: Place,
+}
+
+impl Gas {
+    fn new(gas: Compressible, comm: Arc<dyn Comm>) -> Gas {
+        Gas {
+            gas,
+            saved: GasCheckpoint::default(),
+            comm,
+            place: Place::default(),
+        }
+    }
+}
+
+/// Obeys `order` on this rank (every rank calls it with the same order);
+/// a failure fails on every rank together, with this message.
+fn obey(g: &mut Gas, order: Order) -> Result<Done, String> {
+    let gas = &mut g.gas;
     Ok(match order {
         Order::Monitors => Done::Monitors(monitors(gas, AdvanceReport::default())),
         Order::Output { .. } => Done::Output(gas.gathered_primitives()),
         Order::Advance { dt, window_end, .. } => {
-            let report = gas.advance(dt)?;
+            let report = gas
+                .advance(dt)
+                .map_err(|e: GasError| format!("gas step: {e}"))?;
             let m = if window_end {
                 monitors(gas, report)
             } else {
@@ -38,8 +64,31 @@ fn obey(gas: &mut Compressible, order: Order) -> Result<Done, GasError> {
             };
             Done::Advanced(m, report.steps)
         }
-        Order::Checkpoint { .. } | Order::RunCheckpoint { .. } => {
-            unreachable!("the euler model declares no checkpoints")
+        Order::Checkpoint { restore: false } => {
+            gas.save(&mut g.saved);
+            Done::Checkpoint
+        }
+        Order::Checkpoint { restore: true } => {
+            gas.restore(&g.saved);
+            Done::Checkpoint
+        }
+        Order::RunCheckpoint { window, resume } => {
+            let (comm, place) = (g.comm.as_ref(), &g.place);
+            match resume {
+                false => {
+                    gas.save(&mut g.saved);
+                    rank_checkpoint::write_part(comm, place, window, &g.saved)?;
+                }
+                true => {
+                    rank_checkpoint::read_part(comm, place, window, |c: GasCheckpoint| {
+                        match gas.restore(&c) {
+                            true => Ok(()),
+                            false => Err("another part of the gas than this rank's".into()),
+                        }
+                    })?
+                }
+            }
+            Done::Checkpoint
         }
         Order::Stop => Done::Stop,
     })
@@ -72,9 +121,11 @@ pub fn lead(joining: Joining, section: &FluidSection, comm: Arc<dyn Comm>) -> Re
     })?;
     let names = GAS_MONITORS.iter().map(|n| n.to_string()).collect();
     let mut p = joining
-        .declare(declaration(0, false, names))
+        .declare(declaration(0, false, names).restarts())
         .map_err(|e| Stopped::before_order(c, e))?;
-    let steps = p.reporting(|p| run(p, gas, section, comm))?;
+    let mut g = Gas::new(gas, comm.clone());
+    g.place = Place::of(&p);
+    let steps = p.reporting(|p| run(p, g, section, comm))?;
     p.finish(steps)?;
     Ok(())
 }
@@ -82,7 +133,7 @@ pub fn lead(joining: Joining, section: &FluidSection, comm: Arc<dyn Comm>) -> Re
 /// The schedule's commands, turned into orders every rank obeys.
 fn run(
     p: &mut Participant,
-    mut gas: Compressible,
+    mut g: Gas,
     section: &FluidSection,
     comm: Arc<dyn Comm>,
 ) -> Result<u64, Stopped> {
@@ -94,9 +145,8 @@ fn run(
         let command = p.next_command();
         let order = command.as_ref().map_or(Order::Stop, Order::of);
         order.share(comm.as_ref());
-        match (command?, obey(&mut gas, order)) {
-            (_, Err(e)) => {
-                let msg = format!("gas step: {e}");
+        match (command?, obey(&mut g, order)) {
+            (_, Err(msg)) => {
                 p.fail(msg.clone())?;
                 return Err(Stopped {
                     error: msg.into(),
@@ -105,6 +155,15 @@ fn run(
             }
             (_, Ok(Done::Stop)) => break,
             (_, Ok(Done::Monitors(m))) => p.done(m)?,
+            (Command::WriteCheckpoint { window }, Ok(Done::Checkpoint)) => {
+                rank_checkpoint::write_lead(p, window, &series, steps)?;
+                p.done(Vec::new())?
+            }
+            (Command::Resume { window }, Ok(Done::Checkpoint)) => {
+                steps = rank_checkpoint::read_lead(p, window, &mut series)?;
+                p.done(Vec::new())?
+            }
+            (_, Ok(Done::Checkpoint)) => p.done(Vec::new())?,
             (Command::Output { index, time }, Ok(Done::Output(cells))) => {
                 let cells = cells.ok_or("rank 0 gathers the cells")?;
                 let density: Vec<f64> = cells.iter().map(|w| w.density).collect();
@@ -112,8 +171,8 @@ fn run(
                 let pressure: Vec<f64> = cells.iter().map(|w| w.pressure).collect();
                 let image = Image {
                     origin,
-                    spacing: gas.setup.h,
-                    cells: gas.setup.n,
+                    spacing: g.gas.setup.h,
+                    cells: g.gas.setup.n,
                     cell_data: vec![
                         ("density", 1, &density),
                         ("velocity", 3, &velocity),
@@ -139,10 +198,11 @@ fn run(
 /// step fails (rank 0 meets the same failure and reports it).
 #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 pub fn follow(section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Error> {
-    let mut gas = gas_on(section, comm.clone()).ok_or("[fluid] lacks the box or the regions")?;
+    let gas = gas_on(section, comm.clone()).ok_or("[fluid] lacks the box or the regions")?;
+    let mut g = Gas::new(gas, comm.clone());
     loop {
         let order = Order::Stop.share(comm.as_ref());
-        match obey(&mut gas, order) {
+        match obey(&mut g, order) {
             Ok(Done::Stop) | Err(_) => return Ok(()),
             Ok(_) => {}
         }

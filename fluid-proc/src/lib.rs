@@ -67,6 +67,7 @@ pub mod poisson;
 pub mod pressure_force;
 pub mod profile;
 pub mod projection;
+pub mod rank_checkpoint;
 pub mod ranks;
 pub mod riemann;
 pub mod setup;

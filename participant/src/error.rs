@@ -66,6 +66,8 @@ pub enum ExchangeError {
     AcceleratedMidWindow(String),
     #[error("run checkpoint: {0}")]
     Checkpoint(String),
+    #[error("the coupler (process {0}) is gone: the run was stopped")]
+    CouplerGone(u32),
     #[error("monitor `{0}` was not declared")]
     UndeclaredMonitor(String),
     #[error("{0}")]

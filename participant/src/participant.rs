@@ -192,6 +192,10 @@ impl Participant {
                 "next_command() was called before the last command was reported done()",
             ));
         }
+        let coupler = self.setup.coupler_pid;
+        if !crate::usage::is_alive(coupler) {
+            return Err(ExchangeError::CouplerGone(coupler));
+        }
         let mut waited = Duration::ZERO;
         if let Some((window, iteration)) = self.plan.verdict_due() {
             let waiting = Instant::now();

@@ -35,6 +35,11 @@ pub struct Setup {
     /// run checkpoint written there (`Command::Resume`).
     #[serde(default)]
     pub resume: Option<u64>,
+    /// The coupler's process id (0: not told). A participant whose coupler
+    /// is gone stops at its next command rather than run on alone and
+    /// write into a run directory that a restarted run may be using.
+    #[serde(default)]
+    pub coupler_pid: u32,
 }
 
 /// Who writes a field a participant reads, and its layout.

@@ -13,6 +13,15 @@ pub const DEFAULT_ACCELERATED: [&str; 3] = ["canopy.positions", "canopy.velociti
 /// each window (`CouplingSection::bodies_iterate`): the attachment points
 /// the structure reads at a window's start, written at its end.
 pub const BODIES_ITERATE_ACCELERATED: &str = "attachment.state";
+/// The fields exchanged at every impulse sub-step (docs/PROTOCOL.md,
+/// "Fields"): with more than one a window, they cannot be relaxed once a
+/// window.
+pub const PER_IMPULSE_FIELDS: [&str; 4] = [
+    "attachment.state",
+    "attachment.impulse",
+    "collision.bodies",
+    "collision.impulse",
+];
 /// Default convergence limit ‖r‖₂ ≤ relative·‖x‖₂ per accelerated field.
 pub const DEFAULT_RELATIVE: f64 = 1e-5;
 /// Default ω: constant relaxation's, Aitken's first, IQN-ILS's before it
@@ -223,6 +232,19 @@ impl ImplicitSection {
                     c.within("field", Some(i), |c| f.check(c, &accelerated))
                 })
             });
+        }
+        let per_impulse = accelerated
+            .iter()
+            .find(|f| PER_IMPULSE_FIELDS.contains(&f.as_str()));
+        if let (false, Some(field)) = (bodies_iterate, per_impulse) {
+            c.problem(
+                &at("accelerate"),
+                format!(
+                    "`{field}` is exchanged at every impulse sub-step, and implicit coupling \
+                     relaxes a field once a window: set [coupling] impulse_substeps = 1, or \
+                     take it out of accelerate"
+                ),
+            );
         }
         if accelerated.is_empty() {
             c.problem(

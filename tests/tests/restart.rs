@@ -133,13 +133,40 @@ fn a_killed_canopy_in_the_flow_restarts_to_the_same_results() {
         s.coupling.scheme = scenario::SchemeName::Implicit;
         let b = s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap();
         b.cells = [20, 20, 27];
-        if let Some(fluid) = &fluid {
-            let spec = s.participants.get_mut("fluid").unwrap();
-            spec.program = fluid.display().to_string();
-            spec.ranks = Some(2);
-        }
+        on_two_ranks(s, &fluid);
     });
     restart_matches_whole_run("canopy-flow", &scenario, &dir, &["fluid", "structure"]);
+    rank_1_wrote_its_part(&dir, &fluid);
+}
+
+/// The Sod shock tube of the euler model, on 2 000 cells so that it runs
+/// long enough to be killed, on two MPI ranks where MPI is installed:
+/// each rank's conserved cells and the time.
+#[test]
+fn a_killed_shock_tube_restarts_to_the_same_results() {
+    let dir = scratch("restart-sod");
+    let fluid = mpi_fluid_proc();
+    let scenario = variant("sod", &dir, |s| {
+        s.run.checkpoint_interval = Some(0.02);
+        let b = s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap();
+        b.cells = [2000, 1, 1];
+        on_two_ranks(s, &fluid);
+    });
+    restart_matches_whole_run("sod", &scenario, &dir, &["fluid"]);
+    rank_1_wrote_its_part(&dir, &fluid);
+}
+
+/// The fluid of `s` on two ranks of `fluid` (built with MPI), if any.
+fn on_two_ranks(s: &mut Scenario, fluid: &Option<std::path::PathBuf>) {
+    if let Some(fluid) = fluid {
+        let spec = s.participants.get_mut("fluid").unwrap();
+        spec.program = fluid.display().to_string();
+        spec.ranks = Some(2);
+    }
+}
+
+/// On two ranks, rank 1 wrote its part of the killed run's newest checkpoint.
+fn rank_1_wrote_its_part(dir: &Path, fluid: &Option<std::path::PathBuf>) {
     if fluid.is_some() {
         let kept = dir.join("killed").join(restart::DIR);
         let newest = std::fs::read_dir(&kept)

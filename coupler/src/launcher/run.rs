@@ -315,6 +315,7 @@ fn coupling_thread(
         timing: super::timing(&scenario),
         scheme: super::scheme(&scenario),
         resume,
+        coupler_pid: std::process::id(),
     };
     let monitors_path = run_dir.join("monitors.csv");
     let (run_id, flags) = (run_id.to_string(), flags.clone());

@@ -57,6 +57,7 @@ pub fn run_with(
         timing,
         scheme: scheme.clone(),
         resume: None,
+        coupler_pid: 0,
     };
     let limit = Duration::from_secs(30);
     sup.join(setup, limit, limit)?;

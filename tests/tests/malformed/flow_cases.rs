@@ -2,7 +2,7 @@
 //! and the ranks the fluid runs on, each edited into a shipped scene.
 
 use super::{replace, Case};
-use canopy_tests::scenario_path;
+use canopy_tests::{scenario_path, workspace};
 
 /// The shipped scenario `name` with `from` replaced by `to`.
 fn shipped_with(name: &str, from: &str, to: &str) -> String {
@@ -23,19 +23,27 @@ fn sod_with(from: &str, to: &str) -> String {
     shipped_with("sod", from, to)
 }
 
+/// The same played by `tests/fixtures/plain-solver`, whose `--check`
+/// answer offers neither window nor run checkpoints.
+fn plain_sod(from: &str, to: &str) -> String {
+    let plain = workspace().join("tests/fixtures/plain-solver");
+    let program = format!("program = \"{}\"", plain.display());
+    replace(&sod_with(from, to), "program = \"fluid-proc\"", &program)
+}
+
 pub const CASES: &[Case] = &[
     Case {
-        name: "implicit-with-the-euler-model",
-        edit: |_| sod_with("[coupling]\n", "[coupling]\nscheme = \"implicit\"\n"),
+        name: "implicit-with-a-program-without-checkpoints",
+        edit: |_| plain_sod("[coupling]\n", "[coupling]\nscheme = \"implicit\"\n"),
         key: Some("coupling.scheme"),
         says: "the program of `fluid` does not save and restore them",
         line_of: Some("scheme = \"implicit\""),
     },
     Case {
-        name: "run-checkpoints-with-the-euler-model",
+        name: "run-checkpoints-with-a-program-without-them",
         edit: |_| {
             let with = "output_interval = 0.05";
-            sod_with(with, &format!("{with}\ncheckpoint_interval = 0.1"))
+            plain_sod(with, &format!("{with}\ncheckpoint_interval = 0.1"))
         },
         key: Some("run.checkpoint_interval"),
         says: "the program of `fluid` does not",

@@ -234,6 +234,18 @@ const CASES: &[Case] = &[
         line_of: Some("[coupling.implicit]"),
     },
     Case {
+        name: "accelerating-a-field-of-every-impulse-sub-step",
+        edit: |t| {
+            let with = "impulse_substeps = 4     # impulse exchange every structure sub-step";
+            let implicit = "scheme = \"implicit\"\n\n[coupling.implicit]\naccelerate = \
+                            [\"attachment.state\"]";
+            replace(t, with, &format!("{with}\n{implicit}"))
+        },
+        key: Some("coupling.implicit.accelerate"),
+        says: "is exchanged at every impulse sub-step",
+        line_of: Some("accelerate = [\"attachment.state\"]"),
+    },
+    Case {
         name: "implicit-relaxation-out-of-range",
         edit: |t| {
             let with = "impulse_substeps = 4     # impulse exchange every structure sub-step";
@@ -249,7 +261,7 @@ const CASES: &[Case] = &[
         edit: |t| {
             let with = "impulse_substeps = 4     # impulse exchange every structure sub-step";
             let implicit = "scheme = \"implicit\"\n\n[coupling.implicit]\naccelerate = \
-                            [\"attachment.state\"]\n\n[[coupling.implicit.field]]\n\
+                            [\"body.states\"]\n\n[[coupling.implicit.field]]\n\
                             name = \"canopy.positions\"\nrelative = 1e-6";
             replace(t, with, &format!("{with}\n{implicit}"))
         },

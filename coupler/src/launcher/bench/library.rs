@@ -171,6 +171,7 @@ fn supervise(sup: &mut Supervisor, run: &str, dir: &Path) -> Result<Vec<f64>, St
         timing,
         scheme: Default::default(),
         resume: None,
+        coupler_pid: 0,
     };
     let limit = Duration::from_secs(60);
     sup.join(setup, limit, limit).map_err(|e| e.to_string())?;
