@@ -40,13 +40,23 @@ fn usable_checkpoint(out: &Path, names: &[String]) -> bool {
     complete.first().is_some_and(|w| rows >= w + 3)
 }
 
-/// Start `scenario` into `out`, kill the coupler with SIGKILL once its
-/// first run checkpoint of `names` can be gone on from (its participants
-/// die with it), and check that it was killed mid-run.
-fn kill_after_first_checkpoint(scenario: &Path, out: &Path, names: &[&str]) {
+/// How a run is stopped mid-run.
+#[derive(Clone, Copy, PartialEq)]
+enum Stop {
+    /// SIGKILL to the coupler: its participants die with it.
+    Kill,
+    /// SIGINT, as Ctrl-C: the coupler stops everything cleanly and says
+    /// how to go on.
+    Interrupt,
+}
+
+/// Start `scenario` into `out`, stop the coupler as `stop` says once its
+/// first run checkpoint of `names` can be gone on from, and check that it
+/// was stopped mid-run.
+fn stop_after_first_checkpoint(scenario: &Path, out: &Path, names: &[&str], stop: Stop) {
     let names: Vec<String> = names.iter().map(|n| n.to_string()).collect();
     let mut coupler = run_command(scenario, out)
-        .stderr(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("start coupler");
     let since = Instant::now();
@@ -58,18 +68,37 @@ fn kill_after_first_checkpoint(scenario: &Path, out: &Path, names: &[&str]) {
         assert!(coupler.try_wait().unwrap().is_none(), "the run ended first");
         std::thread::sleep(Duration::from_millis(2));
     }
-    coupler.kill().expect("SIGKILL the coupler");
-    coupler.wait().unwrap();
-    let m = manifest(out);
-    assert_eq!(m["status"], "running", "killed before its end");
+    match stop {
+        Stop::Kill => coupler.kill().expect("SIGKILL the coupler"),
+        // SAFETY: kill(2) on our own child's pid, which it has not reaped.
+        Stop::Interrupt => assert_eq!(unsafe { libc::kill(coupler.id() as i32, libc::SIGINT) }, 0),
+    }
+    let o = coupler.wait_with_output().unwrap();
+    let (status, err) = match stop {
+        Stop::Kill => ("running", String::new()),
+        Stop::Interrupt => (
+            "interrupted",
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        ),
+    };
+    assert_eq!(manifest(out)["status"], status, "stopped before its end");
+    if stop == Stop::Interrupt {
+        assert_eq!(o.status.code(), Some(130), "{err}");
+        assert!(err.contains("coupler run --restart"), "{err}");
+    }
 }
 
 /// The whole run and a killed and restarted one of `scenario` leave the
 /// same results, bit for bit.
 fn restart_matches_whole_run(name: &str, scenario: &Path, dir: &Path, names: &[&str]) {
+    restart_after(Stop::Kill, name, scenario, dir, names);
+}
+
+/// The same, stopped as `stop` says.
+fn restart_after(stop: Stop, name: &str, scenario: &Path, dir: &Path, names: &[&str]) {
     let (whole, killed) = (dir.join("whole"), dir.join("killed"));
     run_ok(scenario, &whole);
-    kill_after_first_checkpoint(scenario, &killed, names);
+    stop_after_first_checkpoint(scenario, &killed, names, stop);
     let o = coupler(&["run", "--restart", killed.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "restart of {name} failed:\n{err}");
@@ -104,16 +133,18 @@ fn a_killed_implicit_pendulum_restarts_to_the_same_results() {
     restart_matches_whole_run("pendulum", &scenario, &dir, &["structure", "rigid"]);
 }
 
-/// A canopy in the porous free stream: the fluid keeps no state, and takes
-/// the canopy's triangles again when the run resumes.
+/// A canopy in the porous free stream, interrupted as with Ctrl-C: the
+/// fluid keeps no state, and takes the canopy's triangles again when the
+/// run resumes; the interrupted coupler says how to go on.
 #[test]
-fn a_killed_canopy_in_the_stream_restarts_to_the_same_results() {
+fn an_interrupted_canopy_in_the_stream_restarts_to_the_same_results() {
     let dir = scratch("restart-canopy");
     let scenario = variant("canopy-porous", &dir, |s| {
         s.run.output_interval = 0.05;
         s.run.checkpoint_interval = Some(0.25);
     });
-    restart_matches_whole_run("canopy-porous", &scenario, &dir, &["fluid", "structure"]);
+    let names = ["fluid", "structure"];
+    restart_after(Stop::Interrupt, "canopy-porous", &scenario, &dir, &names);
 }
 
 /// A porous annulus in the incompressible flow under implicit coupling,

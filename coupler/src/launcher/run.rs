@@ -145,6 +145,14 @@ fn launch(
         serde_json::to_string_pretty(&manifest).unwrap_or_default(),
     );
     tell(&end, &children, run_dir, started, scenario_path);
+    let names: Vec<String> = checked.programs.iter().map(|(n, _)| n.clone()).collect();
+    let stopped = matches!(end, End::Failed(..) | End::Interrupted);
+    if stopped && !participant::restart::complete(run_dir, &names).is_empty() {
+        eprintln!(
+            "to go on from its last run checkpoint: coupler run --restart {}",
+            run_dir.display()
+        );
+    }
     code
 }
 
