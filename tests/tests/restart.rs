@@ -140,8 +140,11 @@ fn a_killed_implicit_pendulum_restarts_to_the_same_results() {
 fn an_interrupted_canopy_in_the_stream_restarts_to_the_same_results() {
     let dir = scratch("restart-canopy");
     let scenario = variant("canopy-porous", &dir, |s| {
-        s.run.output_interval = 0.05;
-        s.run.checkpoint_interval = Some(0.25);
+        // 20 000 windows: seconds, so that the interrupt comes mid-run
+        // although the coupler writes monitor rows only every 0.2 s.
+        s.run.end_time = 40.0;
+        s.run.output_interval = 0.5;
+        s.run.checkpoint_interval = Some(1.0);
     });
     let names = ["fluid", "structure"];
     restart_after(Stop::Interrupt, "canopy-porous", &scenario, &dir, &names);
