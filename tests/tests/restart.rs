@@ -133,6 +133,44 @@ fn a_killed_implicit_pendulum_restarts_to_the_same_results() {
     restart_matches_whole_run("pendulum", &scenario, &dir, &["structure", "rigid"]);
 }
 
+/// The pendulum with a finite body whose shape is a mesh file beside the
+/// scenario, named by a relative path: the restart reads the scenario the
+/// run was started from, unchanged, so the mesh is found as it was.
+#[test]
+fn a_restart_finds_a_mesh_named_relative_to_the_scenario() {
+    let dir = scratch("restart-mesh");
+    // A cube of side 0.2 m about its centre, outward triangles.
+    let mut obj = String::new();
+    for i in 0..8 {
+        let c = |bit: usize| if i >> bit & 1 == 1 { 0.1 } else { -0.1 };
+        obj.push_str(&format!("v {} {} {}\n", c(0), c(1), c(2)));
+    }
+    for f in [
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+    ] {
+        obj.push_str(&format!(
+            "f {} {} {}\nf {} {} {}\n",
+            f[0], f[1], f[2], f[0], f[2], f[3]
+        ));
+    }
+    std::fs::write(dir.join("cube.obj"), obj).unwrap();
+    let scenario = variant("pendulum-body", &dir, |s| {
+        s.run.end_time = 60.0;
+        s.run.output_interval = 5.0;
+        s.run.checkpoint_interval = Some(5.0);
+        let body = &mut s.rigid.as_mut().unwrap().bodies[0];
+        body.shape = Some(rigid_section::ShapeSpec::Mesh {
+            file: "cube.obj".into(),
+        });
+    });
+    restart_matches_whole_run("pendulum-body", &scenario, &dir, &["structure", "rigid"]);
+}
+
 /// A canopy in the porous free stream, interrupted as with Ctrl-C: the
 /// fluid keeps no state, and takes the canopy's triangles again when the
 /// run resumes; the interrupted coupler says how to go on.

@@ -49,18 +49,36 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
     launch(&checked, &run_id, &run_dir, None, started)
 }
 
+/// The manifest's record of the scenario file a run was started from.
+const SCENARIO_FILE: &str = "scenario_file";
+
+/// The scenario a restart of the run in `run_dir` reads: the file the run
+/// was started from, when it is there still as the run's copy holds it
+/// (so paths relative to its folder, a mesh or a program, resolve as they
+/// did), else the run directory's copy.
+fn restart_scenario(run_dir: &Path) -> PathBuf {
+    let copy = run_dir.join("scenario.toml");
+    let manifest = std::fs::read_to_string(run_dir.join("manifest.json")).unwrap_or_default();
+    let original = serde_json::from_str::<serde_json::Value>(&manifest)
+        .ok()
+        .and_then(|m| m[SCENARIO_FILE].as_str().map(PathBuf::from));
+    match original {
+        Some(o) if o.is_file() && std::fs::read(&o).ok() == std::fs::read(&copy).ok() => o,
+        _ => copy,
+    }
+}
+
 /// `coupler run --restart RUN_DIR`: the run in `run_dir` goes on from its
 /// last complete run checkpoint, with the scenario it was started with.
 pub fn restart(run_dir: &Path) -> i32 {
-    let scenario_path = run_dir.join("scenario.toml");
-    if !scenario_path.is_file() {
+    if !run_dir.join("scenario.toml").is_file() {
         eprintln!(
             "error: {} is not a run directory: it has no scenario.toml",
             run_dir.display()
         );
         return EXIT_BAD_INPUT;
     }
-    let checked = match super::load_checked(&scenario_path) {
+    let checked = match super::load_checked(&restart_scenario(run_dir)) {
         Ok(c) => c,
         Err(problems) => return super::refuse(&problems),
     };
@@ -102,11 +120,15 @@ fn launch(
     started: Instant,
 ) -> i32 {
     let scenario_path = &checked.path;
+    let scenario_file = scenario_path
+        .canonicalize()
+        .unwrap_or(scenario_path.clone());
     // Replaced when the run ends; if the coupler itself is killed, this says so.
     let early = json!({
         "status": "running",
         "run_id": run_id,
         "scenario": scenario_path.display().to_string(),
+        SCENARIO_FILE: scenario_file,
         "command_line": std::env::args().collect::<Vec<_>>(),
         "resumed_after_window": resume,
     });
@@ -140,6 +162,7 @@ fn launch(
     let mut manifest = manifest(checked, run_id, &end, &children, status, started);
     manifest["implicit"] = iterations.map_or(serde_json::Value::Null, |i| i.summary());
     manifest["resumed_after_window"] = json!(resume);
+    manifest[SCENARIO_FILE] = json!(scenario_file);
     let _ = std::fs::write(
         run_dir.join("manifest.json"),
         serde_json::to_string_pretty(&manifest).unwrap_or_default(),
