@@ -19,6 +19,7 @@ use crate::faces::Faces;
 use crate::flow_bodies::FlowBodies;
 use crate::flow_canopy::FlowCanopy;
 use crate::incompressible::{Incompressible, StepReport};
+use crate::probe;
 use crate::rank_checkpoint::{self, Place};
 use crate::ranks::{Order, Stopped};
 use crate::setup::flow_on;
@@ -36,28 +37,45 @@ struct Flow {
     comm: Arc<dyn Comm>,
     /// Where run checkpoints go (rank 0 tells the others).
     place: Place,
+    /// Whether probes read the cells at the start and at window ends.
+    probing: bool,
 }
 
 impl Flow {
-    fn new(flow: Incompressible, comm: Arc<dyn Comm>) -> Flow {
+    fn new(flow: Incompressible, comm: Arc<dyn Comm>, section: &FluidSection) -> Flow {
         Flow {
             before: flow.u.clone(),
             flow,
             checkpoint: Checkpoint::default(),
             comm,
             place: Place::default(),
+            probing: section.probes.as_ref().is_some_and(|p| !p.is_empty()),
         }
+    }
+
+    /// The box's cell pressures [Pa] and velocities [m/s] on rank 0, when
+    /// probes read them (every rank calls it together).
+    fn probed(&self) -> Probed {
+        if !self.probing {
+            return None;
+        }
+        let pressure = self.flow.part.gather(&self.flow.pressure());
+        let velocity = self.flow.part.gather(&self.flow.cell_velocity());
+        pressure.zip(velocity)
     }
 }
 
+/// What probes read: the box's cell pressures and velocities, on rank 0.
+type Probed = Option<(Vec<f64>, Vec<f64>)>;
+
 /// What obeying an order gave; only rank 0's is used.
 enum Done {
-    Monitors(Vec<Monitor>),
+    Monitors(Vec<Monitor>, Probed),
     /// The box's cell velocities and pressures, on rank 0.
     Output(Option<(Vec<f64>, Vec<f64>)>),
     /// Monitors, steps taken, and on rank 0 the box's pressure [Pa] where
     /// the canopy or the bodies' monitors read it.
-    Advanced(Vec<Monitor>, u64, Option<Vec<f64>>),
+    Advanced(Vec<Monitor>, u64, Option<Vec<f64>>, Probed),
     Checkpoint,
     Stop,
 }
@@ -67,7 +85,9 @@ enum Done {
 fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
     let flow = &mut f.flow;
     Ok(match order {
-        Order::Monitors => Done::Monitors(monitors(flow, StepReport::default(), f64::NAN)),
+        Order::Monitors => {
+            Done::Monitors(monitors(flow, StepReport::default(), f64::NAN), f.probed())
+        }
         Order::Output { .. } => {
             let velocity = flow.part.gather(&flow.cell_velocity());
             let pressure = flow.part.gather(&flow.pressure());
@@ -100,7 +120,8 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
             } else {
                 None
             };
-            Done::Advanced(m, n as u64, pressure)
+            let probed = if window_end { f.probed() } else { None };
+            Done::Advanced(m, n as u64, pressure, probed)
         }
         Order::Checkpoint { restore: false } => {
             flow.save(&mut f.checkpoint);
@@ -176,7 +197,7 @@ pub fn lead(
     let c = comm.as_ref();
     let flow = flow_on(section, comm.clone())
         .ok_or_else(|| Stopped::before_order(c, "[fluid] has no box"))?;
-    let mut f = Flow::new(flow, comm.clone());
+    let mut f = Flow::new(flow, comm.clone(), section);
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
     let bodies =
         FlowBodies::new(scenario, &mut f.flow, origin).map_err(|e| Stopped::before_order(c, e))?;
@@ -188,6 +209,7 @@ pub fn lead(
     if jump_monitor {
         names.push("mean_pressure_jump".into());
     }
+    names.extend(probe::names(section.probes.as_deref().unwrap_or(&[])));
     let mut p = joining
         .declare(declaration(f.flow.bodies.len(), true, names).restarts())
         .map_err(|e| Stopped::before_order(c, e))?;
@@ -208,6 +230,15 @@ fn run(
 ) -> Result<u64, Stopped> {
     let c = comm.as_ref();
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
+    let probe_list = section.probes.clone().unwrap_or_default();
+    // The probes' monitors from what they read (none without probes).
+    let probes = |flow: &Incompressible, probed: Probed| match probe_list.is_empty() {
+        true => Vec::new(),
+        false => {
+            let fields = probed.as_ref().map(|(p, v)| (&p[..], &v[..]));
+            probe::monitors(&probe_list, flow.grid(), origin, fields)
+        }
+    };
     let mut io = Interface {
         loads: vec![0.0; 6 * f.flow.bodies.len()],
         bodies,
@@ -246,8 +277,9 @@ fn run(
                 p.done(Vec::new())?
             }
             (_, Done::Checkpoint) => p.done(Vec::new())?,
-            (_, Done::Monitors(mut m)) => {
+            (_, Done::Monitors(mut m, probed)) => {
                 m.extend(io.monitors(flow, None));
+                m.extend(probes(flow, probed));
                 p.done(m)?
             }
             (Command::Output { index, time }, Done::Output(Some((velocity, pressure)))) => {
@@ -261,12 +293,13 @@ fn run(
                 series.write_image(index, time, &image)?;
                 p.done(Vec::new())?
             }
-            (Command::Advance(a), Done::Advanced(mut m, n, pressure)) => {
+            (Command::Advance(a), Done::Advanced(mut m, n, pressure, probed)) => {
                 steps += n;
                 io.answer(p, flow, pressure.as_deref())?;
                 if a.window_end {
                     let read = pressure.as_deref().map(|p| (&io.loads[..], p));
                     m.extend(io.monitors(flow, read));
+                    m.extend(probes(flow, probed));
                 }
                 p.done(m)?;
             }
@@ -356,7 +389,7 @@ pub fn fail(p: &mut Participant, msg: String) -> Error {
 #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 pub fn follow(section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Error> {
     let flow = flow_on(section, comm.clone()).ok_or("[fluid] has no box")?;
-    let mut f = Flow::new(flow, comm.clone());
+    let mut f = Flow::new(flow, comm.clone(), section);
     loop {
         let order = Order::Stop.share(comm.as_ref());
         match obey(&mut f, order) {

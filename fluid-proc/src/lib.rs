@@ -65,6 +65,7 @@ pub mod padded;
 pub mod part;
 pub mod poisson;
 pub mod pressure_force;
+pub mod probe;
 pub mod profile;
 pub mod projection;
 pub mod rank_checkpoint;

@@ -246,3 +246,42 @@ fn net_inflow(sides: &[[SideSpec; 2]; 3], b: &FlowBox) -> (f64, f64) {
     }
     (net, scale)
 }
+
+/// `[[fluid.probes]]`: a named point whose pressure and velocity the flow
+/// reports as monitors (`probe_<name>_pressure`, `probe_<name>_velocity_x`…).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Probe {
+    pub name: String,
+    /// Where [m], world axes; inside the box.
+    pub point: [f64; 3],
+}
+
+impl Probe {
+    /// Names plain and distinct, points inside `flow_box`.
+    pub fn check_all(probes: &[Probe], c: &mut Checker, flow_box: &FlowBox) {
+        for (i, p) in probes.iter().enumerate() {
+            c.within("probes", Some(i), |c| {
+                c.plain_name(&["name"], &p.name, true);
+                if probes[..i].iter().any(|q| q.name == p.name) {
+                    c.problem(
+                        &["name"],
+                        format!("a probe named `{}` is given twice", p.name),
+                    );
+                }
+                c.finite3(&["point"], p.point);
+                let inside =
+                    (0..3).all(|d| (flow_box.lower[d]..=flow_box.upper[d]).contains(&p.point[d]));
+                if !inside {
+                    c.problem(
+                        &["point"],
+                        format!(
+                            "point = {:?} lies outside the box, from {:?} to {:?}",
+                            p.point, flow_box.lower, flow_box.upper
+                        ),
+                    );
+                }
+            });
+        }
+    }
+}

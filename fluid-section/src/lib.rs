@@ -43,6 +43,7 @@ const MODEL_KEYS: [(FluidModel, &[&str], &[&str]); 3] = [
             "box",
             "sides",
             "initial_velocity",
+            "probes",
             "porosity",
             "diameter",
             "thickness",
@@ -121,6 +122,10 @@ pub struct FluidSection {
     /// Velocity of the fluid at the start [m/s] (incompressible).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial_velocity: Option<[f64; 3]>,
+    /// Named points whose pressure and velocity are monitors
+    /// (`[[fluid.probes]]`, incompressible).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub probes: Option<Vec<flow::Probe>>,
     /// Ratio of specific heats γ (euler); air's 1.4 when left out.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gamma: Option<f64>,
@@ -220,6 +225,7 @@ impl FluidSection {
                 ("box", self.flow_box.is_some()),
                 ("sides", self.sides.is_some()),
                 ("initial_velocity", self.initial_velocity.is_some()),
+                ("probes", self.probes.is_some()),
                 ("gamma", self.gamma.is_some()),
                 ("cfl", self.cfl.is_some()),
                 ("regions", self.regions.is_some()),
@@ -280,6 +286,9 @@ impl FluidSection {
             }
             if let Some(v) = self.initial_velocity {
                 c.finite3(&["initial_velocity"], v);
+            }
+            if let (Some(probes), Some(b)) = (&self.probes, &self.flow_box) {
+                flow::Probe::check_all(probes, c, b);
             }
         });
     }

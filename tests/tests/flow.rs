@@ -112,3 +112,43 @@ fn a_gas_that_turns_unphysical_stops_the_run_and_says_where() {
     let first = out.join("vtk").join("fluid_000000.vti");
     assert_eq!(vtu::read_cell_data(&first, "density").unwrap().len(), 400);
 }
+
+/// Flow probes (`[[fluid.probes]]`) on the closed sheet of
+/// `scenarios/sheet-closed.toml`, one below it and one above: by
+/// continuity the air on both sides moves with the inflow, 1.8 m/s, and
+/// the pressure drops across the sheet by its weight per area,
+/// ρ_s·g = 0.05·9.81 Pa, the uniform air on each side at one pressure.
+/// Measured after 0.3 s: 1.8 m/s to 2·10⁻¹⁰ at both probes, 10⁻¹⁰ m/s
+/// across the stream, and a drop of 0.49064 Pa against 0.4905 (0.03 %).
+#[test]
+fn probes_read_the_pressure_drop_and_the_stream_across_a_closed_sheet() {
+    let dir = scratch("probes");
+    let scenario = variant("sheet-closed", &dir, |s| {
+        s.run.end_time = 0.3;
+        let probe = |name: &str, z: f64| fluid_section::flow::Probe {
+            name: name.into(),
+            point: [0.3, 0.6, z],
+        };
+        // The sheet starts at z = 1.5 and is near z = 2.04 at the end.
+        s.fluid.as_mut().unwrap().probes = Some(vec![probe("below", 0.75), probe("above", 3.3)]);
+    });
+    let out = dir.join("run");
+    run_ok(&scenario, &out);
+    let m = Monitors::read(&out);
+    let last = |name: &str| *m.column(&format!("fluid.probe_{name}")).last().unwrap();
+    for side in ["below", "above"] {
+        let w = last(&format!("{side}_velocity_z"));
+        assert!((w - 1.8).abs() < 1e-6, "{side}: w = {w} m/s");
+        let across = last(&format!("{side}_velocity_x")).hypot(last(&format!("{side}_velocity_y")));
+        assert!(across < 1e-6, "{side}: {across} m/s across the stream");
+    }
+    let drop = last("below_pressure") - last("above_pressure");
+    let weight = 0.05 * 9.81;
+    assert!(
+        (drop / weight - 1.0).abs() < 2e-3,
+        "drop {drop} Pa against {weight} Pa"
+    );
+    // The start's row reads the initial stream.
+    let start = m.column("fluid.probe_below_velocity_z")[0];
+    assert!((start - 1.8).abs() < 1e-12, "{start}");
+}

@@ -50,6 +50,16 @@ pub const CASES: &[Case] = &[
         line_of: Some("checkpoint_interval = 0.1"),
     },
     Case {
+        name: "flow-probe-outside-the-box",
+        edit: |_| {
+            let probe = "[[fluid.probes]]\nname = \"far\"\npoint = [2.0, 0.5, 0.0]\n";
+            format!("{}\n{probe}", cavity_with("", ""))
+        },
+        key: Some("fluid.probes[0].point"),
+        says: "lies outside the box",
+        line_of: Some("point = [2.0, 0.5, 0.0]"),
+    },
+    Case {
         name: "flow-huge-box-bound",
         edit: |_| cavity_with("upper = [1.0, 1.0,", "upper = [1e308, 1.0,"),
         key: Some("fluid.box.upper"),
