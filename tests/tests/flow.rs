@@ -148,6 +148,15 @@ fn probes_read_the_pressure_drop_and_the_stream_across_a_closed_sheet() {
         (drop / weight - 1.0).abs() < 2e-3,
         "drop {drop} Pa against {weight} Pa"
     );
+    // The run's report: a panel per monitor with a value, four a row of
+    // 320 × 200 pixels (`coupler/src/launcher/report.rs`).
+    let png = std::fs::read(out.join("monitors.png")).expect("monitors.png");
+    assert_eq!(&png[1..4], b"PNG");
+    let size = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
+    let shown = (1..m.header.len())
+        .filter(|&i| m.rows.iter().any(|r| r[i].is_finite()))
+        .count() as u32;
+    assert_eq!((size(16), size(20)), (4 * 320, shown.div_ceil(4) * 200));
     // The start's row reads the initial stream.
     let start = m.column("fluid.probe_below_velocity_z")[0];
     assert!((start - 1.8).abs() < 1e-12, "{start}");

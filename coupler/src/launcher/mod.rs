@@ -10,6 +10,7 @@ pub mod manifest;
 pub mod monitors;
 pub mod programs;
 pub mod progress;
+pub mod report;
 pub mod restart;
 pub mod run;
 pub mod study;

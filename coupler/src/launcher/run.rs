@@ -159,6 +159,9 @@ fn launch(
     if let Some(Err(e)) = iterations.as_ref().map(|i| i.write(run_dir)) {
         eprintln!("warning: cannot write iterations.csv or iterations.png: {e}");
     }
+    if let Err(e) = super::report::write(run_dir) {
+        eprintln!("warning: cannot write monitors.png: {e}");
+    }
     let mut manifest = manifest(checked, run_id, &end, &children, status, started);
     manifest["implicit"] = iterations.map_or(serde_json::Value::Null, |i| i.summary());
     manifest["resumed_after_window"] = json!(resume);

@@ -1,0 +1,104 @@
+//! `monitors.png`: every run's report, each monitor of `monitors.csv`
+//! against simulated time in a panel of its own, so that a person can look
+//! rather than read (the designer's numbers of issue 23 among them).
+
+use super::iterations::{register_font, FONT};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Panels per row, and each panel's size in pixels.
+const COLUMNS: usize = 4;
+const PANEL: (u32, u32) = (320, 200);
+/// Most panels drawn (the first monitors, in the file's order).
+const MOST: usize = 64;
+/// Most points drawn per monitor: longer runs are thinned evenly.
+const POINTS: usize = 2000;
+
+/// A monitor's name and values, one per row of `monitors.csv`.
+type Column = (String, Vec<f64>);
+
+/// Time and the monitors with a finite value, from `monitors.csv`.
+fn read(csv: &Path) -> Option<(Vec<f64>, Vec<Column>)> {
+    let text = std::fs::read_to_string(csv).ok()?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next()?.split(',').collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .filter(|r: &Vec<f64>| r.len() == header.len())
+        .collect();
+    let column = |i: usize| rows.iter().map(|r| r[i]).collect::<Vec<f64>>();
+    let monitors = (1..header.len())
+        .map(|i| (header[i].to_string(), column(i)))
+        .filter(|(_, v)| v.iter().any(|x| x.is_finite()))
+        .take(MOST)
+        .collect();
+    Some((column(0), monitors))
+}
+
+/// Write `monitors.png` in `run_dir` from its `monitors.csv`; nothing for a
+/// run without rows.
+pub fn write(run_dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let Some((time, monitors)) = read(&run_dir.join("monitors.csv")) else {
+        return Ok(());
+    };
+    if time.len() < 2 || monitors.is_empty() {
+        return Ok(());
+    }
+    register_font();
+    let rows = monitors.len().div_ceil(COLUMNS);
+    let size = (PANEL.0 * COLUMNS as u32, PANEL.1 * rows as u32);
+    let png = run_dir.join("monitors.png");
+    let area = BitMapBackend::new(&png, size).into_drawing_area();
+    area.fill(&WHITE)?;
+    let step = time.len().div_ceil(POINTS).max(1);
+    for (panel, (name, values)) in area.split_evenly((rows, COLUMNS)).iter().zip(&monitors) {
+        draw(panel, name, &time, values, step)?;
+    }
+    area.present()?;
+    Ok(())
+}
+
+/// One monitor against time in `panel`, every `step`-th row.
+fn draw(
+    panel: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    name: &str,
+    time: &[f64],
+    values: &[f64],
+    step: usize,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let points: Vec<(f64, f64)> = (0..time.len())
+        .step_by(step)
+        .filter(|&i| values[i].is_finite() && time[i].is_finite())
+        .map(|i| (time[i], values[i]))
+        .collect();
+    let (t0, t1) = (time[0], time[time.len() - 1]);
+    let (lo, hi) = (points.iter()).fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    // A constant monitor gets a band about its value.
+    let pad = match (hi > lo, lo == 0.0) {
+        (true, _) => 0.05 * (hi - lo),
+        (false, true) => 1.0,
+        (false, false) => 0.5 * lo.abs(),
+    };
+    let mut chart = ChartBuilder::on(panel)
+        .caption(name, (FONT, 13))
+        .margin(6)
+        .x_label_area_size(22)
+        .y_label_area_size(58)
+        .build_cartesian_2d(t0..t1.max(t0 + 1e-300), (lo - pad)..(hi + pad))?;
+    chart
+        .configure_mesh()
+        .x_labels(4)
+        .y_labels(5)
+        .label_style((FONT, 10))
+        .y_label_formatter(&|v| match (1e-3..1e4).contains(&v.abs()) {
+            true => format!("{v:.3}"),
+            false => format!("{v:.2e}"),
+        })
+        .draw()?;
+    chart.draw_series(LineSeries::new(points, BLUE.stroke_width(1)))?;
+    Ok(())
+}
