@@ -23,6 +23,7 @@ use crate::probe;
 use crate::rank_checkpoint::{self, Place};
 use crate::ranks::{Order, Stopped};
 use crate::setup::flow_on;
+use fluid_section::flow::Probe;
 use fluid_section::{FluidSection, Scene};
 use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
@@ -230,21 +231,14 @@ fn run(
 ) -> Result<u64, Stopped> {
     let c = comm.as_ref();
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
-    let probe_list = section.probes.clone().unwrap_or_default();
-    // The probes' monitors from what they read (none without probes).
-    let probes = |flow: &Incompressible, probed: Probed| match probe_list.is_empty() {
-        true => Vec::new(),
-        false => {
-            let fields = probed.as_ref().map(|(p, v)| (&p[..], &v[..]));
-            probe::monitors(&probe_list, flow.grid(), origin, fields)
-        }
-    };
     let mut io = Interface {
         loads: vec![0.0; 6 * f.flow.bodies.len()],
         bodies,
         canopy: FlowCanopy::new(section, origin),
         with_canopy: p.is_connected(CANOPY_POSITIONS),
         jump_monitor,
+        probes: section.probes.clone().unwrap_or_default(),
+        origin,
     };
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
@@ -279,7 +273,7 @@ fn run(
             (_, Done::Checkpoint) => p.done(Vec::new())?,
             (_, Done::Monitors(mut m, probed)) => {
                 m.extend(io.monitors(flow, None));
-                m.extend(probes(flow, probed));
+                m.extend(io.probe_monitors(flow, probed));
                 p.done(m)?
             }
             (Command::Output { index, time }, Done::Output(Some((velocity, pressure)))) => {
@@ -299,7 +293,7 @@ fn run(
                 if a.window_end {
                     let read = pressure.as_deref().map(|p| (&io.loads[..], p));
                     m.extend(io.monitors(flow, read));
-                    m.extend(probes(flow, probed));
+                    m.extend(io.probe_monitors(flow, probed));
                 }
                 p.done(m)?;
             }
@@ -319,9 +313,21 @@ struct Interface {
     with_canopy: bool,
     /// Whether the canopy's mean jump is a monitor.
     jump_monitor: bool,
+    /// `[[fluid.probes]]`, and the box's low corner in the world [m].
+    probes: Vec<Probe>,
+    origin: [f64; 3],
 }
 
 impl Interface {
+    /// The probes' monitors from the cells they read (none without probes).
+    fn probe_monitors(&self, flow: &Incompressible, probed: Probed) -> Vec<Monitor> {
+        if self.probes.is_empty() {
+            return Vec::new();
+        }
+        let fields = probed.as_ref().map(|(p, v)| (&p[..], &v[..]));
+        probe::monitors(&self.probes, flow.grid(), self.origin, fields)
+    }
+
     /// Puts the bodies and the canopy where rigid-proc and the structure
     /// left them at the window's start.
     fn place(&mut self, p: &mut Participant, flow: &mut Incompressible) -> Result<(), Error> {
