@@ -79,6 +79,36 @@ fn area2(x: &[V3], t: &[usize; 3]) -> V3 {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
+/// The springs' network: masses, rest lengths by node pair, triangles, and how many nodes move
+/// (those before the fixed rim).
+struct Net {
+    mass: Vec<f64>,
+    springs: BTreeMap<(usize, usize), f64>,
+    tris: Vec<[usize; 3]>,
+    free: usize,
+}
+
+/// One sub-step of `h`: gravity, jump·area·n̂ (a third per vertex), springs with k·h·(v_j − v_i).
+fn substep(s: &Structure, net: &Net, jump: &[f64], x: &mut [V3], v: &mut [V3], h: f64) {
+    let k = s.annulus.fabric.stiffness;
+    let mut f: Vec<V3> = net.mass.iter().map(|m| s.gravity.map(|g| m * g)).collect();
+    for (t, jump) in net.tris.iter().zip(jump) {
+        let a2 = area2(x, t);
+        t.iter().for_each(|&i| (0..3).for_each(|c| f[i][c] += jump * a2[c] / 6.0));
+    }
+    for (&(i, j), rest) in &net.springs {
+        let (d, len) = (sub(x[j], x[i]), norm(sub(x[j], x[i])));
+        for c in 0..3 {
+            let fc = k * (len - rest) * d[c] / len + k * h * (v[j][c] - v[i][c]);
+            (f[i][c], f[j][c]) = (f[i][c] + fc, f[j][c] - fc);
+        }
+    }
+    for i in 0..net.free {
+        (0..3).for_each(|c| v[i][c] += h * f[i][c] / net.mass[i]);
+        (0..3).for_each(|c| x[i][c] += h * v[i][c]);
+    }
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     scenario::answer_check(|path, text| {
         load(path, text).map(|_| scenario::Answer::with_restarts())
@@ -87,15 +117,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let s = load(joining.scenario_path(), joining.scenario())?;
     let (mut x, tris, first) = annulus(&s.annulus);
     let (n, vent, free) = (x.len(), first[1], first[s.annulus.rings - 1]); // the rim is fixed
-    let (k, timing) = (s.annulus.fabric.stiffness, *joining.timing());
-    let (mut mass, mut springs) = (vec![0.0; n], BTreeMap::new()); // springs: rest lengths
-    for t in &tris {
+    let timing = *joining.timing();
+    let mut net = Net { mass: vec![0.0; n], springs: BTreeMap::new(), tris, free };
+    for t in &net.tris {
         for e in 0..3 {
-            mass[t[e]] += s.annulus.fabric.areal_density * 0.5 * norm(area2(&x, t)) / 3.0;
+            net.mass[t[e]] += s.annulus.fabric.areal_density * 0.5 * norm(area2(&x, t)) / 3.0;
             let (i, j) = (t[e].min(t[(e + 1) % 3]), t[e].max(t[(e + 1) % 3]));
-            springs.insert((i, j), norm(sub(x[i], x[j])));
+            net.springs.insert((i, j), norm(sub(x[i], x[j])));
         }
     }
+    let tris = &net.tris;
     let mut p = joining.declare(
         Declaration::new(Cadence::PerWindow { substeps: timing.structure_substeps })
             .writes("canopy.triangles", 3, tris.len())
@@ -111,7 +142,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let window_end = |p: &mut Participant, x: &[V3], v: &[V3]| {
         p.write_field("canopy.positions", 3 * n, |o| o.copy_from_slice(x.as_flattened()))?;
         p.write_field("canopy.velocities", 3 * n, |o| o.copy_from_slice(v.as_flattened()))?;
-        let ke = (0..n).map(|i| 0.5 * mass[i] * norm(v[i]).powi(2)).sum();
+        let ke = (0..n).map(|i| 0.5 * net.mass[i] * norm(v[i]).powi(2)).sum();
         let centre = x[..vent].iter().map(|p| p[2]).sum::<f64>() / vent as f64; // the vent's mean
         p.done(vec![Monitor::new("kinetic_energy", ke), Monitor::new("centre_deflection", centre)])
     };
@@ -130,23 +161,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 jump.copy_from_slice(&p.read_field("canopy.pressure")?); // once a window
                 let h = step.dt / (step.substeps * s.steps_per_substep) as f64;
                 for _ in 0..step.substeps * s.steps_per_substep {
-                    // Gravity, jump·area·n̂ (a third per vertex), springs with k·h·(v_j − v_i).
-                    let mut f: Vec<V3> = mass.iter().map(|m| s.gravity.map(|g| m * g)).collect();
-                    for (t, jump) in tris.iter().zip(&jump) {
-                        let a2 = area2(&x, t);
-                        t.iter().for_each(|&i| (0..3).for_each(|c| f[i][c] += jump * a2[c] / 6.0));
-                    }
-                    for (&(i, j), rest) in &springs {
-                        let (d, len) = (sub(x[j], x[i]), norm(sub(x[j], x[i])));
-                        for c in 0..3 {
-                            let fc = k * (len - rest) * d[c] / len + k * h * (v[j][c] - v[i][c]);
-                            (f[i][c], f[j][c]) = (f[i][c] + fc, f[j][c] - fc);
-                        }
-                    }
-                    for i in 0..free {
-                        (0..3).for_each(|c| v[i][c] += h * f[i][c] / mass[i]);
-                        (0..3).for_each(|c| x[i][c] += h * v[i][c]);
-                    }
+                    substep(&s, &net, &jump, &mut x, &mut v, h);
                 }
                 window_end(&mut p, &x, &v)?;
             }

@@ -233,15 +233,10 @@ impl Participant {
         Ok(command)
     }
 
-    /// The directory this participant writes its run checkpoint at the end
-    /// of `window` into (on `WriteCheckpoint`) and reads it back from (on
-    /// `Resume`); see [`restart::state_file`] for the file names.
-    pub fn checkpoint_dir(&self, window: u64) -> std::path::PathBuf {
-        restart::dir(&self.setup.run_dir, window)
-    }
-
     /// The file this participant keeps its state in at the run checkpoint
-    /// of `window`.
+    /// of `window` (written on `WriteCheckpoint`, read back on `Resume`; a
+    /// participant on several processes names one per process with
+    /// [`restart::state_file`]).
     pub fn state_file(&self, window: u64) -> std::path::PathBuf {
         restart::state_file(&self.setup.run_dir, window, &self.name, None)
     }

@@ -96,7 +96,7 @@ pub enum Command {
     },
     /// Run checkpoints (`[run] checkpoint_interval`): write what the run
     /// needs to go on from the end of `window` into
-    /// `Participant::checkpoint_dir(window)`. Only to a participant that
+    /// `Participant::state_file(window)`. Only to a participant that
     /// declares `.restarts()`.
     WriteCheckpoint {
         window: u64,
