@@ -5,6 +5,7 @@
 //!
 //! That state is the face velocities uⁿ, the kinematic pressure q^{n−½}
 //! the predictor's gradient uses (dissertation eq. 3.18), the time, the
+//! box's place and motion when it follows the parachute (`frame.rs`), the
 //! last step's length and advection term Nⁿ (second-order Adams–Bashforth
 //! reads both), the solvers' first guesses (the pressure correction φ and
 //! each component's viscous change δ: a solve that starts elsewhere stops
@@ -16,6 +17,7 @@
 //! disk, one file per rank (`flow_run.rs`).
 
 use crate::faces::Faces;
+use crate::frame::Frame;
 use crate::immersed::ImmersedBody;
 use crate::incompressible::Incompressible;
 
@@ -30,6 +32,8 @@ pub struct Checkpoint {
     history: History,
     bodies: Vec<ImmersedBody>,
     canopy: Option<ImmersedBody>,
+    /// Where the box is and how it moves, when it follows the parachute.
+    frame: Option<Frame>,
 }
 
 /// What a flow step reads beyond (u, q): φ, the last Δt, and per advected
@@ -54,6 +58,7 @@ impl Incompressible {
         self.save_history(&mut into.history);
         into.bodies.clone_from(&self.bodies);
         into.canopy.clone_from(&self.canopy);
+        into.frame = self.frame;
     }
 
     /// Whether `from` holds this rank's part of the flow: a checkpoint
@@ -72,5 +77,9 @@ impl Incompressible {
         self.restore_history(&from.history);
         self.bodies.clone_from(&from.bodies);
         self.canopy.clone_from(&from.canopy);
+        self.frame = from.frame;
+        if self.frame.is_some() {
+            self.frame_sides();
+        }
     }
 }

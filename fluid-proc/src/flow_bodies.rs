@@ -15,7 +15,8 @@ use rigid_proc::Body;
 pub struct FlowBodies {
     bodies: Vec<Body>,
     surfaces: Vec<Option<Surface>>,
-    origin: [f64; 3],
+    /// The box's low corner in the world at the start [m].
+    lower: [f64; 3],
 }
 
 impl FlowBodies {
@@ -25,7 +26,7 @@ impl FlowBodies {
     pub fn new(
         scenario: &Scene,
         flow: &mut Incompressible,
-        origin: [f64; 3],
+        lower: [f64; 3],
     ) -> Result<FlowBodies, String> {
         let specs = scenario.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
         let bodies = specs
@@ -50,10 +51,17 @@ impl FlowBodies {
         let mut all = FlowBodies {
             bodies,
             surfaces,
-            origin,
+            lower,
         };
         all.place(flow)?;
         Ok(all)
+    }
+
+    /// The velocity over the ground [m/s] of the body named `name`, as
+    /// last read.
+    pub fn velocity_of(&self, name: &str) -> Option<[f64; 3]> {
+        let body = self.bodies.iter().find(|b| b.name == name)?;
+        Some(body.state.v.into())
     }
 
     /// Takes the states rigid-proc sent ([`STATE_LEN`] per body) and puts
@@ -73,7 +81,8 @@ impl FlowBodies {
     }
 
     fn place(&mut self, flow: &mut Incompressible) -> Result<(), String> {
-        let o = self.origin;
+        // Where the box is now: it moves when it follows the parachute.
+        let o = flow.box_origin(self.lower);
         for ((body, surface), immersed) in
             self.bodies.iter().zip(&self.surfaces).zip(&mut flow.bodies)
         {

@@ -20,8 +20,8 @@ pub struct FlowCanopy {
     triangles: Option<Vec<[usize; 3]>>,
     /// The fabric's law (`canopy::porous_law`); None for a closed fabric.
     law: Option<[f64; 2]>,
-    /// The box's low corner in the world [m].
-    origin: [f64; 3],
+    /// The box's low corner in the world at the start [m].
+    lower: [f64; 3],
     /// The vertices where they were last placed, in the box's frame [m].
     x: Vec<f64>,
     jumps: Vec<f64>,
@@ -39,13 +39,13 @@ pub struct FlowCanopy {
 impl FlowCanopy {
     /// A canopy of the fabric `[fluid]` describes: porous with its
     /// `porosity`, `diameter` and `thickness`, closed without them.
-    pub fn new(section: &FluidSection, origin: [f64; 3]) -> FlowCanopy {
+    pub fn new(section: &FluidSection, lower: [f64; 3]) -> FlowCanopy {
         FlowCanopy {
             triangles: None,
             law: section
                 .fabric()
                 .map(|f| porous_law(&Porous::new(&f.params()))),
-            origin,
+            lower,
             x: Vec::new(),
             jumps: Vec::new(),
             cuts: SheetCuts::default(),
@@ -94,9 +94,11 @@ impl FlowCanopy {
         if x.iter().chain(v).any(|c| !c.is_finite()) {
             return Err("the canopy's positions or velocities are not finite".into());
         }
+        // Where the box is now: it moves when it follows the parachute.
+        let origin = flow.box_origin(self.lower);
         self.x.clear();
         self.x
-            .extend(x.iter().enumerate().map(|(i, c)| c - self.origin[i % 3]));
+            .extend(x.iter().enumerate().map(|(i, c)| c - origin[i % 3]));
         let g = flow.grid();
         // A 2-D flow has no depth to resolve: the canopy must span the box's
         // one cell along its thin axis, each marker acting across it. That
@@ -120,7 +122,7 @@ impl FlowCanopy {
         let (markers, velocities) =
             sheet_markers_cut(&self.x, v, triangles, spacing, &mut self.cuts);
         self.cuts.replay = self.implicit;
-        keep_clear(g, &markers, self.origin, "the canopy")?;
+        keep_clear(g, &markers, origin, "the canopy")?;
         let canopy = flow.canopy.get_or_insert_with(ImmersedBody::default);
         canopy.porous = self.law;
         canopy.place_sheet(markers, velocities);
@@ -139,6 +141,17 @@ impl FlowCanopy {
         self.replay_read = self.implicit;
         self.read.jumps(pressure, &mut self.jumps);
         &self.jumps
+    }
+
+    /// The mean velocity [m/s] of the vertices `v` (xyz per vertex): what
+    /// a box that follows the canopy moves with.
+    pub fn mean_velocity(v: &[f64]) -> [f64; 3] {
+        let n = (v.len() / 3).max(1) as f64;
+        let mut sum = [0.0; 3];
+        for c in v.chunks_exact(3) {
+            (0..3).for_each(|d| sum[d] += c[d]);
+        }
+        sum.map(|s| s / n)
     }
 
     /// The mean jump over the triangles [Pa], as the porous free-stream

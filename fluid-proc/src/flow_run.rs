@@ -24,6 +24,7 @@ use crate::rank_checkpoint::{self, Place};
 use crate::ranks::{Order, Stopped};
 use crate::setup::flow_on;
 use fluid_section::flow::Probe;
+use fluid_section::frame::FrameSpec;
 use fluid_section::{FluidSection, Scene};
 use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
@@ -101,6 +102,7 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
         } => {
             f.before.clone_from(&flow.u);
             flow.share_bodies();
+            flow.share_frame();
             let n = substeps.max(1);
             let mut report = StepReport::default();
             for _ in 0..n {
@@ -187,6 +189,20 @@ fn monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> V
         .collect()
 }
 
+/// This rank's flow at the start: with `[fluid.frame]`, in the box that
+/// follows the parachute (`frame.rs`).
+fn flow_of(scenario: &Scene, comm: Arc<dyn Comm>) -> Option<Incompressible> {
+    let mut flow = flow_on(&scenario.fluid, comm)?;
+    if let Some(v) = scenario.frame_start() {
+        flow.start_following(v);
+    }
+    Some(flow)
+}
+
+/// The monitors of a box that follows the parachute: where it is and how
+/// fast it falls over the ground.
+const FRAME_MONITORS: [&str; 2] = ["frame_altitude", "frame_descent_speed"];
+
 /// Rank 0 (or the only rank): declares what the flow exchanges, runs the
 /// schedule and finishes.
 pub fn lead(
@@ -196,7 +212,7 @@ pub fn lead(
     comm: Arc<dyn Comm>,
 ) -> Result<(), Stopped> {
     let c = comm.as_ref();
-    let flow = flow_on(section, comm.clone())
+    let flow = flow_of(scenario, comm.clone())
         .ok_or_else(|| Stopped::before_order(c, "[fluid] has no box"))?;
     let mut f = Flow::new(flow, comm.clone(), section);
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
@@ -211,6 +227,9 @@ pub fn lead(
         names.push("mean_pressure_jump".into());
     }
     names.extend(probe::names(section.probes.as_deref().unwrap_or(&[])));
+    if section.frame.is_some() {
+        names.extend(FRAME_MONITORS.map(String::from));
+    }
     let mut p = joining
         .declare(declaration(f.flow.bodies.len(), true, names).restarts())
         .map_err(|e| Stopped::before_order(c, e))?;
@@ -239,6 +258,7 @@ fn run(
         jump_monitor,
         probes: section.probes.clone().unwrap_or_default(),
         origin,
+        following: section.frame.clone().map(Following::new),
     };
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
@@ -246,10 +266,11 @@ fn run(
         let command = p.next_command().map_err(|e| Stopped::before_order(c, e))?;
         if command == Command::SaveCheckpoint {
             io.canopy.new_window();
+            io.following.iter_mut().for_each(Following::new_window);
         }
-        if let Command::Advance(_) = command {
+        if let Command::Advance(a) = command {
             let flow = &mut f.flow;
-            if let Err(e) = io.place(p, flow) {
+            if let Err(e) = io.place(p, flow, a.dt) {
                 let msg = format!("at t = {} s: {e}", flow.time);
                 return Err(Stopped::before_order(c, fail(p, msg)));
             }
@@ -279,7 +300,7 @@ fn run(
             (Command::Output { index, time }, Done::Output(Some((velocity, pressure)))) => {
                 let g = flow.grid();
                 let image = Image {
-                    origin,
+                    origin: flow.box_origin(origin),
                     spacing: g.h,
                     cells: g.n,
                     cell_data: vec![("velocity", 3, &velocity), ("pressure", 1, &pressure)],
@@ -313,9 +334,47 @@ struct Interface {
     with_canopy: bool,
     /// Whether the canopy's mean jump is a monitor.
     jump_monitor: bool,
-    /// `[[fluid.probes]]`, and the box's low corner in the world [m].
+    /// `[[fluid.probes]]`, and the box's low corner in the world at the
+    /// start [m].
     probes: Vec<Probe>,
     origin: [f64; 3],
+    /// What the box follows, when it moves (`[fluid.frame]`).
+    following: Option<Following>,
+}
+
+/// What a box that follows the parachute follows, and its velocity at the
+/// end of the present window: under implicit coupling the first try's, so
+/// that every try of a window moves the box alike.
+struct Following {
+    spec: FrameSpec,
+    target: [f64; 3],
+    /// Whether the present window's target is chosen (implicit coupling).
+    chosen: bool,
+    implicit: bool,
+}
+
+impl Following {
+    fn new(spec: FrameSpec) -> Following {
+        Following {
+            spec,
+            target: [0.0; 3],
+            chosen: false,
+            implicit: false,
+        }
+    }
+
+    fn new_window(&mut self) {
+        self.implicit = true;
+        self.chosen = false;
+    }
+
+    /// The frame's monitors, from the box's `offset` [m] and `velocity`
+    /// [m/s] over the ground.
+    fn monitors(&self, flow: &Incompressible) -> [Monitor; 2] {
+        let (offset, velocity) = (flow.frame_offset(), flow.frame_velocity());
+        let values = [self.spec.altitude() + offset[2], -velocity[2]];
+        [0, 1].map(|i| Monitor::new(FRAME_MONITORS[i], values[i]))
+    }
 }
 
 impl Interface {
@@ -329,11 +388,18 @@ impl Interface {
     }
 
     /// Puts the bodies and the canopy where rigid-proc and the structure
-    /// left them at the window's start.
-    fn place(&mut self, p: &mut Participant, flow: &mut Incompressible) -> Result<(), Error> {
+    /// left them at the window's start, and aims a box that follows the
+    /// parachute at what it follows over the window's `dt` [s].
+    fn place(
+        &mut self,
+        p: &mut Participant,
+        flow: &mut Incompressible,
+        dt: f64,
+    ) -> Result<(), Error> {
         if p.is_connected(BODY_STATES) {
             self.bodies.read(&p.read_field(BODY_STATES)?, flow)?;
         }
+        let mut canopy_velocity = None;
         if self.with_canopy {
             let canopy = &mut self.canopy;
             if canopy.needs_triangles() {
@@ -342,6 +408,23 @@ impl Interface {
             let x = p.read_field(CANOPY_POSITIONS)?;
             let v = p.read_field(CANOPY_VELOCITIES)?;
             canopy.place(&x, &v, flow)?;
+            canopy_velocity = Some(FlowCanopy::mean_velocity(&v));
+        }
+        if let Some(f) = &mut self.following {
+            if !f.chosen {
+                let followed = match f.spec.follows_canopy() {
+                    true => canopy_velocity,
+                    false => self.bodies.velocity_of(&f.spec.follow),
+                };
+                f.target = followed.ok_or_else(|| {
+                    format!(
+                        "the frame follows `{}`, which is not in the flow",
+                        f.spec.follow
+                    )
+                })?;
+                f.chosen = f.implicit;
+            }
+            flow.aim_frame(f.target, dt);
         }
         Ok(())
     }
@@ -377,6 +460,9 @@ impl Interface {
         if self.jump_monitor {
             m.push(Monitor::new("mean_pressure_jump", self.canopy.mean_jump()));
         }
+        if let Some(f) = &self.following {
+            m.extend(f.monitors(flow));
+        }
         m
     }
 }
@@ -393,9 +479,9 @@ pub fn fail(p: &mut Participant, msg: String) -> Error {
 /// A rank other than 0: obeys rank 0's orders until it stops, or until a
 /// step fails (rank 0 meets the same failure and reports it).
 #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-pub fn follow(section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Error> {
-    let flow = flow_on(section, comm.clone()).ok_or("[fluid] has no box")?;
-    let mut f = Flow::new(flow, comm.clone(), section);
+pub fn follow(scenario: &Scene, comm: Arc<dyn Comm>) -> Result<(), Error> {
+    let flow = flow_of(scenario, comm.clone()).ok_or("[fluid] has no box")?;
+    let mut f = Flow::new(flow, comm.clone(), &scenario.fluid);
     loop {
         let order = Order::Stop.share(comm.as_ref());
         match obey(&mut f, order) {

@@ -315,9 +315,6 @@ fn interpolate(u: &Faces, m: &[[usize; 3]; 3], r: &Reaches) -> [f64; 3] {
     v
 }
 
-/// The air's velocity [m/s] at each marker of the bodies `pick` chooses
-/// (none at the others'). Split among ranks, each interpolates from its own
-/// faces and the shares are summed over the ranks, so that every rank sees
 /// The porous sheets' pushes, from the air `air` at their markers: the
 /// Ergun drag (thesis eqs. 6–10) on the air crossing each marker, implicit
 /// in the crossing speed (κ = Δt·weight/(ρ·h)), over the step Δt in air of
@@ -368,13 +365,18 @@ fn solid_pushes(
     }
 }
 
-/// the whole kernel's and computes the same forcing.
+/// The air's velocity over the ground [m/s] at each marker of the bodies
+/// `pick` chooses (none at the others'), the faces moving at `frame`.
+/// Split among ranks, each interpolates from its own faces and the shares
+/// are summed over the ranks, so that every rank sees the whole kernel's
+/// and computes the same forcing.
 fn air_at(
     u: &Faces,
     m: &[[usize; 3]; 3],
     reach: &[Vec<Reaches>],
     pick: impl Fn(usize) -> bool,
     part: &Part,
+    frame: [f64; 3],
 ) -> Vec<Vec<[f64; 3]>> {
     let mut air: Vec<Vec<[f64; 3]>> = reach
         .iter()
@@ -389,6 +391,12 @@ fn air_at(
         part.comm.sum(&mut shares);
         for (v, s) in air.iter_mut().flatten().zip(shares.chunks_exact(3)) {
             v.copy_from_slice(s);
+        }
+    }
+    // Over the ground, as the markers' targets are.
+    if frame != [0.0; 3] {
+        for v in air.iter_mut().flatten() {
+            (0..3).for_each(|d| v[d] += frame[d]);
         }
     }
     air
@@ -412,6 +420,16 @@ impl ImmersedBody {
     }
 }
 
+/// The air a forcing step acts on: the step `dt` [s], the density [kg/m³],
+/// and the velocity over the ground [m/s] of the box its faces move with
+/// (`frame.rs`; zero for a fixed box), which the markers' targets are not.
+#[derive(Debug, Clone, Copy)]
+pub struct Air {
+    pub dt: f64,
+    pub density: f64,
+    pub frame: [f64; 3],
+}
+
 /// Holds the face velocities `u` to the bodies' motion at their markers
 /// over a step of `dt` in a fluid of `density` [kg/m³], recording on each
 /// body what the forcing gave the fluid. The periodic repeat faces (face n
@@ -432,14 +450,8 @@ impl ImmersedBody {
 /// w + κ(a·w + b·w|w|) = w̃ with w̃ before it and κ = Δt·(3/8)/(ρh), the
 /// sheet's response to its own force (implicit, so a stiff fabric is no
 /// limit on the step; the spread force is Δp(w) whatever κ is).
-pub fn force(
-    grid: &Grid,
-    part: &Part,
-    u: &mut Faces,
-    dt: f64,
-    density: f64,
-    bodies: &mut [&mut ImmersedBody],
-) {
+pub fn force(grid: &Grid, part: &Part, u: &mut Faces, air: Air, bodies: &mut [&mut ImmersedBody]) {
+    let Air { dt, density, frame } = air;
     let active: Vec<usize> = (0..3).filter(|&d| grid.n[d] > 1).collect();
     // ΔV_k = ΔA_k·h with h the mean spacing across the flow's own axes.
     let spacing = active
@@ -475,7 +487,7 @@ pub fn force(
     // Every marker reads the same field, then all spread (Uhlmann's
     // explicit forcing), so the order of the markers does not matter.
     let mut pushes: Vec<Vec<[f64; 3]>> = vec![Vec::new(); bodies.len()];
-    let air = air_at(u, &m, &reach, |b| bodies[b].porous.is_some(), part);
+    let air = air_at(u, &m, &reach, |b| bodies[b].porous.is_some(), part, frame);
     porous_pushes(bodies, &air, kappa, [dt, density], &mut pushes);
     let apply = |pushes: &[Vec<[f64; 3]>], u: &mut Faces, bodies: &mut [&mut ImmersedBody]| {
         for (b, body) in bodies.iter_mut().enumerate() {
@@ -491,7 +503,7 @@ pub fn force(
     for _ in 0..FORCING_PASSES {
         // Across a porous sheet the drag did the work: only the others
         // are forced again.
-        let air = air_at(u, &m, &reach, |b| bodies[b].porous.is_none(), part);
+        let air = air_at(u, &m, &reach, |b| bodies[b].porous.is_none(), part, frame);
         solid_pushes(bodies, &air, spacing, &mut pushes);
         apply(&pushes, u, bodies);
     }

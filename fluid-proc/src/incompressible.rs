@@ -22,8 +22,9 @@
 use crate::advection::advection;
 use crate::checkpoint::History;
 use crate::faces::{for_each_cell_faces, Faces};
+use crate::frame::Frame;
 use crate::grid::Grid;
-use crate::immersed::{force, ImmersedBody};
+use crate::immersed::{force, Air, ImmersedBody};
 use crate::padded::Padded;
 use crate::part::{Halo, Part};
 use crate::poisson::{Poisson, SolveError};
@@ -91,7 +92,7 @@ pub struct Incompressible {
     /// This rank's part of it, its cells as a grid, and its own sides.
     pub part: Part,
     local: Grid,
-    sides: Sides,
+    pub(crate) sides: Sides,
     /// q's planes beyond the slab.
     halo: Halo,
     /// Face velocities uⁿ [m/s].
@@ -111,6 +112,10 @@ pub struct Incompressible {
     pub bodies: Vec<ImmersedBody>,
     /// The canopy in the flow, an open surface (`canopy.rs`).
     pub canopy: Option<ImmersedBody>,
+    /// How the box moves when it follows the parachute (`frame.rs`), and
+    /// its sides as the ground sees them.
+    pub frame: Option<Frame>,
+    pub(crate) ground_sides: Sides,
 }
 
 impl Incompressible {
@@ -164,6 +169,8 @@ impl Incompressible {
             time: 0.0,
             bodies: Vec::new(),
             canopy: None,
+            frame: None,
+            ground_sides: setup.sides,
             setup,
         };
         flow.impose_sides();
@@ -373,13 +380,18 @@ impl Incompressible {
                 VISCOUS_TOLERANCE,
             )?;
         }
+        // A box that follows the parachute accelerates: the air takes the
+        // frame's body force −a·Δt, and the sides their velocities at the
+        // step's end (`frame.rs`).
+        let dv = self.move_frame(dt);
+        let sides = &self.sides;
         for c in 0..3 {
             let (Some(u), Some(w)) = (&mut self.padded[c], &self.work[c]) else {
                 continue;
             };
             let lay = u.lay;
             let d = &w.delta.data;
-            lay.for_box(lay.unknown_box(), |_, p| u.data[p] += d[p]);
+            lay.for_box(lay.unknown_box(), |_, p| u.data[p] += d[p] - dv[c]);
             u.fill_ghosts(sides);
             u.store(&mut self.u);
         }
@@ -400,7 +412,9 @@ impl Incompressible {
             // The forcing acts on u* before the projection, so the projected
             // field is divergence-free with the bodies and canopy in it.
             let (global, density) = (&self.setup.grid, self.setup.density);
-            force(global, &self.part, &mut self.u, dt, density, &mut forced);
+            let frame = self.frame.map_or([0.0; 3], |f| f.velocity);
+            let air = Air { dt, density, frame };
+            force(global, &self.part, &mut self.u, air, &mut forced);
             self.impose_sides();
         }
     }

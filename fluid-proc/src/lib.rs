@@ -52,6 +52,7 @@ pub mod faces;
 pub mod flow_bodies;
 pub mod flow_canopy;
 pub mod flow_run;
+pub mod frame;
 pub mod gas;
 pub mod gas_run;
 pub mod grid;

@@ -182,10 +182,10 @@ pub fn ranks() -> Result<(), Error> {
         comm.broadcast_text(&mut path);
         comm.broadcast_text(&mut text);
         (|| -> Result<(), Stopped> {
-            let section = Scene::load(std::path::Path::new(&path), &text)?.fluid;
-            match section.model {
-                FluidModel::Euler => gas_run::follow(&section, comm.clone())?,
-                FluidModel::Incompressible => flow_run::follow(&section, comm.clone())?,
+            let scene = Scene::load(std::path::Path::new(&path), &text)?;
+            match scene.fluid.model {
+                FluidModel::Euler => gas_run::follow(&scene.fluid, comm.clone())?,
+                FluidModel::Incompressible => flow_run::follow(&scene, comm.clone())?,
                 _ => {}
             }
             Ok(())

@@ -9,12 +9,14 @@
 //!   box (`gas.rs`: `gamma`, `cfl`, `[[fluid.regions]]`).
 
 use flow::{FlowBox, FlowSides};
+use frame::FrameSpec;
 use gas::{GasRegion, AIR_GAMMA, DEFAULT_CFL};
 pub use porous_load::{PorousLoad, AIR_DENSITY, AIR_VISCOSITY};
 use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
 pub mod flow;
+pub mod frame;
 pub mod gas;
 mod porous_load;
 mod scene;
@@ -44,6 +46,7 @@ const MODEL_KEYS: [(FluidModel, &[&str], &[&str]); 3] = [
             "sides",
             "initial_velocity",
             "probes",
+            "frame",
             "porosity",
             "diameter",
             "thickness",
@@ -126,6 +129,9 @@ pub struct FluidSection {
     /// (`[[fluid.probes]]`, incompressible).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub probes: Option<Vec<flow::Probe>>,
+    /// A box that follows the parachute (`[fluid.frame]`, incompressible).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame: Option<FrameSpec>,
     /// Ratio of specific heats γ (euler); air's 1.4 when left out.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gamma: Option<f64>,
@@ -192,13 +198,19 @@ impl FluidSection {
 
     /// The Courant number Σ_a|u_a|·Δt/h_a an incompressible flow step of
     /// `dt` starts with, at the fastest of the side and initial velocities
-    /// (None for another model: the euler model chooses its own steps).
-    pub fn start_courant(&self, dt: f64) -> Option<f64> {
+    /// relative to the box, which moves at `frame` [m/s] when it follows
+    /// the parachute (None for another model: the euler model chooses its
+    /// own steps).
+    pub fn start_courant(&self, dt: f64, frame: [f64; 3]) -> Option<f64> {
         if self.model != FluidModel::Incompressible {
             return None;
         }
         let h = self.flow_box?.spacing();
-        let courant = |v: [f64; 3]| (0..3).map(|a| v[a].abs() * dt / h[a]).sum::<f64>();
+        let courant = |v: [f64; 3]| {
+            (0..3)
+                .map(|a| (v[a] - frame[a]).abs() * dt / h[a])
+                .sum::<f64>()
+        };
         Some(self.given_velocities().map(courant).fold(0.0, f64::max))
     }
 
@@ -226,6 +238,7 @@ impl FluidSection {
                 ("sides", self.sides.is_some()),
                 ("initial_velocity", self.initial_velocity.is_some()),
                 ("probes", self.probes.is_some()),
+                ("frame", self.frame.is_some()),
                 ("gamma", self.gamma.is_some()),
                 ("cfl", self.cfl.is_some()),
                 ("regions", self.regions.is_some()),
@@ -289,6 +302,9 @@ impl FluidSection {
             }
             if let (Some(probes), Some(b)) = (&self.probes, &self.flow_box) {
                 flow::Probe::check_all(probes, c, b);
+            }
+            if let Some(frame) = &self.frame {
+                frame.check(c, self.resolved_sides());
             }
         });
     }

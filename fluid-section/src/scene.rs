@@ -4,6 +4,7 @@
 //! which partners each model can take).
 
 use crate::flow::{HALO_CELLS, MAX_COURANT};
+use crate::frame::FrameSpec;
 use crate::{FluidModel, FluidSection};
 use rigid_section::RigidSection;
 use scenario::{section, Checker, Scenario, ScenarioError};
@@ -33,19 +34,26 @@ impl Scene {
         let scenario = Scenario::parse(path, text)?;
         let fluid = section::read::<FluidSection>(path, text, "fluid")?
             .ok_or_else(|| section::missing(path, "fluid", "fluid-proc"))?;
-        section::checked(path, text, |c| {
-            fluid.check(c);
-            check_partners(c, &scenario, &fluid);
-        })?;
+        section::checked(path, text, |c| fluid.check(c))?;
         let rigid = match scenario.participants.lists("rigid") {
             true => RigidSection::load(path, text)?,
             false => None,
         };
+        section::checked(path, text, |c| {
+            check_partners(c, &scenario, &fluid, rigid.as_ref())
+        })?;
         Ok(Scene {
             scenario,
             fluid,
             rigid,
         })
+    }
+
+    /// The velocity [m/s] over the ground the flow box starts with when it
+    /// follows the parachute (`[fluid.frame]`), None for a fixed box.
+    pub fn frame_start(&self) -> Option<[f64; 3]> {
+        let frame = self.fluid.frame.as_ref()?;
+        Some(frame.start_velocity(followed(frame, self.rigid.as_ref())?))
     }
 
     /// [`Scene::load`] of the file at `path`.
@@ -54,8 +62,13 @@ impl Scene {
     }
 }
 
-/// The checks of `[fluid]` against the coupling part.
-fn check_partners(c: &mut Checker, scenario: &Scenario, s: &FluidSection) {
+/// The checks of `[fluid]` against the coupling part and `[rigid]`.
+fn check_partners(
+    c: &mut Checker,
+    scenario: &Scenario,
+    s: &FluidSection,
+    rigid: Option<&RigidSection>,
+) {
     let listed = |name| scenario.participants.lists(name);
     // The incompressible flow takes the canopy and rigid bodies (immersed
     // boundaries); the gas takes neither yet.
@@ -74,8 +87,9 @@ fn check_partners(c: &mut Checker, scenario: &Scenario, s: &FluidSection) {
     if ranks > 1 {
         check_ranks(c, s, ranks);
     }
+    let frame = check_frame(c, scenario, s, rigid);
     let window = scenario.coupling.window;
-    let courant = s.start_courant(window).unwrap_or(0.0);
+    let courant = s.start_courant(window, frame).unwrap_or(0.0);
     if courant > MAX_COURANT {
         c.problem(
             &["coupling", "window"],
@@ -86,6 +100,52 @@ fn check_partners(c: &mut Checker, scenario: &Scenario, s: &FluidSection) {
             ),
         );
     }
+}
+
+/// Whether what `[fluid.frame]` follows takes part: the canopy a
+/// structure sends, or a body of `[rigid]`. Returns the frame's velocity
+/// at the start [m/s] (zero without a frame).
+fn check_frame(
+    c: &mut Checker,
+    scenario: &Scenario,
+    s: &FluidSection,
+    rigid: Option<&RigidSection>,
+) -> [f64; 3] {
+    let Some(frame) = &s.frame else {
+        return [0.0; 3];
+    };
+    let key = ["fluid", "frame", "follow"];
+    if frame.follows_canopy() && !scenario.participants.lists("structure") {
+        c.problem(
+            &key,
+            "follow = \"canopy\" needs a participant `structure` to send the canopy".into(),
+        );
+    }
+    match followed(frame, rigid) {
+        Some(initial) => frame.start_velocity(initial),
+        None => {
+            c.problem(
+                &key,
+                format!(
+                    "follow = \"{}\" is neither \"canopy\" nor a body of [[rigid.bodies]] \
+                     (with a participant `rigid`)",
+                    frame.follow
+                ),
+            );
+            [0.0; 3]
+        }
+    }
+}
+
+/// The initial velocity [m/s] of what `frame` follows: Some(None) for the
+/// canopy (the structure's own), None when it names no body of `rigid`.
+fn followed(frame: &FrameSpec, rigid: Option<&RigidSection>) -> Option<Option<[f64; 3]>> {
+    if frame.follows_canopy() {
+        return Some(None);
+    }
+    let bodies = rigid.map_or(&[][..], |r| &r.bodies[..]);
+    let body = bodies.iter().find(|b| b.name == frame.follow)?;
+    Some(Some(body.velocity))
 }
 
 /// Whether the fluid can run on `ranks` ranks: a model split among ranks

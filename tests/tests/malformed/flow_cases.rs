@@ -60,6 +60,36 @@ pub const CASES: &[Case] = &[
         line_of: Some("point = [2.0, 0.5, 0.0]"),
     },
     Case {
+        name: "frame-follows-no-body",
+        edit: |_| {
+            let frame = "[fluid.frame]\nfollow = \"jumper\"\n";
+            format!("{}\n{frame}", shipped_with("c9-tunnel", "", ""))
+        },
+        key: Some("fluid.frame.follow"),
+        says: "is neither \"canopy\" nor a body of [[rigid.bodies]]",
+        line_of: Some("follow = \"jumper\""),
+    },
+    Case {
+        name: "frame-follows-a-canopy-no-structure-sends",
+        edit: |_| {
+            let frame = "[fluid.frame]\nfollow = \"canopy\"\n";
+            format!("{}\n{frame}", shipped_with("c9-tunnel", "", ""))
+        },
+        key: Some("fluid.frame.follow"),
+        says: "needs a participant `structure` to send the canopy",
+        line_of: Some("follow = \"canopy\""),
+    },
+    Case {
+        name: "frame-in-a-box-without-outflow",
+        edit: |_| {
+            let frame = "[fluid.frame]\nfollow = \"canopy\"\n";
+            format!("{}\n{frame}", cavity_with("", ""))
+        },
+        key: Some("fluid.frame.follow"),
+        says: "needs an `outflow` side",
+        line_of: Some("follow = \"canopy\""),
+    },
+    Case {
         name: "flow-huge-box-bound",
         edit: |_| cavity_with("upper = [1.0, 1.0,", "upper = [1e308, 1.0,"),
         key: Some("fluid.box.upper"),
