@@ -181,6 +181,14 @@ fn add_parachute(
     m.canopy_height = z;
     let hub = add_confluence(m, p, confluence, body.is_some());
     add_suspension_lines(m, p, &mesh.skirt, hub);
+    // The start: released at this velocity, or held by the payload first.
+    let velocity = p.velocity.or(body.map(|b| b.velocity)).unwrap_or([0.0; 3]);
+    for v in m.v.chunks_exact_mut(3) {
+        v.copy_from_slice(&velocity);
+    }
+    if let (Some(until), None) = (p.release_time, body) {
+        m.hold_until(hub, m.mass[hub], until);
+    }
     Ok(())
 }
 

@@ -5,7 +5,8 @@
 //! so a repeated window must start from exactly the state the first try did.
 //!
 //! That state is the model's positions and velocities, the attachment
-//! points with their impulses, the suspension lines' breaks (a break undone
+//! points with their impulses, whether the payload still holds the
+//! parachute (`release.rs`), the suspension lines' breaks (a break undone
 //! gives its segment back its stiffness and damping), and the stepper's
 //! history: what its next step reads beyond (x, v), such as Newmark's
 //! carried acceleration a_n (thesis §2.4) or the adaptive step size of
@@ -31,6 +32,8 @@ pub struct Checkpoint {
     v: Vec<f64>,
     attachments: Vec<Attachment>,
     lines: Vec<LineState>,
+    /// Whether the payload still holds the parachute (`release.rs`).
+    held: bool,
     /// The stepper's history, as it saved it.
     pub history: Vec<f64>,
 }
@@ -43,6 +46,7 @@ impl Model {
         into.x.clone_from(&self.x);
         into.v.clone_from(&self.v);
         into.attachments.clone_from(&self.attachments);
+        into.held = self.held();
         into.lines.clear();
         into.lines.extend(self.lines.iter().map(|l| {
             let top = l.springs[0];
@@ -61,6 +65,9 @@ impl Model {
         self.x.clone_from(&from.x);
         self.v.clone_from(&from.v);
         self.attachments.clone_from(&from.attachments);
+        if self.held() != from.held {
+            self.set_held(from.held);
+        }
         let mut changed = false;
         for (line, saved) in self.lines.iter_mut().zip(&from.lines) {
             if line.broken == saved.broken {

@@ -129,7 +129,9 @@ fn monitors(m: &Model, omega_max: Option<f64>, obstacles: Option<&Obstacles>) ->
         v.push(Monitor::new("centre_deflection", m.centre_deflection()));
     }
     for (name, n) in &m.points {
-        if m.kind[*n] == NodeKind::Free {
+        // A held payload is a point of the monitors from the start.
+        let held = m.hold.is_some_and(|h| h.node == *n);
+        if m.kind[*n] == NodeKind::Free || held {
             for (c, axis) in ["x", "y", "z", "vx", "vy", "vz"].iter().enumerate() {
                 let value = if c < 3 {
                     m.x[3 * n + c]
@@ -444,6 +446,9 @@ impl<S: Stepper> Driven<S> {
             }
             time += h;
             for event in m.break_lines(time) {
+                eprintln!("{event}");
+            }
+            if let Some(event) = m.release(time) {
                 eprintln!("{event}");
             }
         }

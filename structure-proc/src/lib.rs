@@ -24,6 +24,7 @@ pub mod network;
 pub mod output;
 pub mod parachute;
 pub mod rectangle;
+pub mod release;
 pub mod rings;
 pub mod stability;
 pub mod system;

@@ -40,6 +40,8 @@ pub struct Model {
     pub lines: Vec<Line>,
     /// Named points of a hand-built network, with their node, for the monitors.
     pub points: Vec<(String, usize)>,
+    /// A payload that holds the parachute until its release (`release.rs`).
+    pub hold: Option<crate::release::Hold>,
 }
 
 impl std::ops::Deref for Model {

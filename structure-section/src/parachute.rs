@@ -137,6 +137,15 @@ pub struct Parachute {
     /// Breaking lines (dissertation §4.2.3).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub line_breaks: Vec<LineBreak>,
+    /// The parachute's velocity at release [m/s]: every node of canopy,
+    /// lines and a mass-point payload starts with it; at rest, or the body
+    /// payload's own `velocity` in `[[rigid.bodies]]`, when left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<[f64; 3]>,
+    /// A mass-point payload holds the parachute, moving on at `velocity`
+    /// whatever pulls on it, until this time [s]; then it falls free.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub release_time: Option<f64>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -287,8 +296,22 @@ impl Parachute {
         }
     }
 
-    /// One payload: a mass point or a rigid body that exists.
+    /// One payload: a mass point or a rigid body that exists; the release.
     fn check_payload(&self, c: &mut Checker, has_body: impl Fn(&str) -> Option<String>) {
+        if let Some(v) = self.velocity {
+            c.finite3(&["velocity"], v);
+        }
+        if let Some(t) = self.release_time {
+            c.finite_nonneg(&["release_time"], t);
+            if self.body.is_some() {
+                c.problem(
+                    &["release_time"],
+                    "release_time holds a mass-point payload (payload_mass); a body payload \
+                     moves as [[rigid.bodies]] says"
+                        .into(),
+                );
+            }
+        }
         match (&self.payload_mass, &self.body) {
             (Some(m), None) => {
                 c.positive(&["payload_mass"], *m, "kg");

@@ -178,3 +178,45 @@ fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
         "body and point differ by {worst} m over a {fall} m fall"
     );
 }
+
+/// Start conditions (issue 23): the C-9 released at 5 m/s downward and
+/// held by its payload for 0.1 s. While held the confluence moves on at
+/// exactly the release velocity, whatever the lines pull (to round-off);
+/// from the release on it is a free 100 kg mass point, pulled down by
+/// gravity faster than the canopy's drag holds it back at first.
+#[test]
+fn a_held_payload_moves_at_the_release_velocity_until_it_lets_go() {
+    let dir = scratch("c9-held");
+    let path = variant("c9-drop", &dir, |s| {
+        s.run.end_time = 0.2;
+        s.run.output_interval = 0.0;
+        let p = s.structure.as_mut().unwrap().parachute.as_mut().unwrap();
+        p.resolution = 4;
+        p.velocity = Some([0.0, 0.0, -5.0]);
+        p.release_time = Some(0.1);
+    });
+    run_ok(&path, &dir.join("run"));
+    let m = Monitors::read(&dir.join("run"));
+    let (t, z, vz) = (
+        m.column("time"),
+        m.column("structure.confluence.z"),
+        m.column("structure.confluence.vz"),
+    );
+    for i in 0..t.len() {
+        if t[i] <= 0.1 + 1e-12 {
+            assert!(
+                (z[i] - (z[0] - 5.0 * t[i])).abs() < 1e-9,
+                "t = {}: z = {}",
+                t[i],
+                z[i]
+            );
+            assert_eq!(vz[i], -5.0, "t = {}", t[i]);
+        }
+    }
+    let last = vz.len() - 1;
+    assert!(
+        vz[last] < -5.0 - 0.5 * 9.81 * 0.1,
+        "vz = {} m/s at 0.2 s",
+        vz[last]
+    );
+}
