@@ -4,8 +4,12 @@
 //! (3.7), the integrator's stability interval, the sub-steps a window
 //! needs, and a warning when the scenario's are too few.
 
+use crate::damped::DampingRate;
 use crate::driver::{Error, Stepper};
-use crate::stability::{estimate, interval, omega_max, warning, Estimate, Interval};
+use crate::stability::{
+    attached_omega, damping_rate, estimate, omega_max, warning, Estimate, Interval,
+    ATTACHED_INTERVAL,
+};
 use crate::{build_model, Model};
 use scenario::{Answer, ScenarioError};
 use std::path::Path;
@@ -27,41 +31,50 @@ pub fn answer<S: Stepper>(
     answer
         .manifest
         .insert("integrator".into(), section.integrator.name().into());
-    let omega = match scheme_omega_max(&scene, make) {
+    let ((omega, damping), attached) = match scheme_omega_max(&scene, path, text, make) {
         Ok(w) => w,
         Err(e) => {
             answer.notes.push(format!("stability not estimated: {e}"));
             return Ok(answer);
         }
     };
+    if attached > 0.0 {
+        attached_answer(&mut answer, attached, &scene.scenario.coupling);
+    }
     if omega == 0.0 {
         answer
             .notes
-            .push("stability: no spring holds a free node, so eq. 3.7 sets no step limit".into());
+            .push("stability: no spring holds a free node of the structure, so eq. 3.7 sets no limit on its step".into());
         return Ok(answer);
     }
     let c = &scene.scenario.coupling;
     let name = section.integrator.name();
-    let est = estimate(omega, c.window, section.scheme());
+    let est = estimate(omega, c.window, section.scheme(), damping);
     answer.notes.push(note(&est, section, name));
     answer
         .warnings
         .extend(warning(&est, c.window, c.structure_substeps, name));
     answer
         .manifest
-        .insert("stability".into(), manifest(&est, section).into());
+        .insert("stability".into(), manifest(&est).into());
     Ok(answer)
 }
 
-/// The ω_max bound of the model the scene builds, if the program's stepper
-/// is the scenario's integrator (whose interval the estimate assumes).
+/// The ω_max bound and damping rate of the model the scene builds, if the
+/// program's stepper is the scenario's integrator (whose interval the
+/// estimate assumes).
 fn scheme_omega_max<S: Stepper>(
     scene: &Scene,
+    path: &Path,
+    text: &str,
     make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
-) -> Result<f64, Error> {
+) -> Result<((f64, DampingRate), f64), Error> {
     let section = &scene.structure;
     let dt = scene.scenario.coupling.structure_dt();
     let m = build_model(section, scene.rigid.as_ref(), dt)?;
+    let weights = attachment_weights(scene, path, text)?;
+    let nodes: Vec<usize> = m.attachments.iter().map(|a| a.node).collect();
+    let attached = attached_omega(&nodes, &weights, &m.couplings);
     let stepper = make(section, &m)?;
     if !stepper.is_scenario_integrator() {
         return Err(format!(
@@ -71,14 +84,71 @@ fn scheme_omega_max<S: Stepper>(
         )
         .into());
     }
-    Ok(omega_max(&m.inv_mass, &m.couplings))
+    let damping = damping_rate(&m.net, dt);
+    Ok(((omega_max(&m.inv_mass, &m.couplings), damping), attached))
+}
+
+/// Each attachment's effective inverse mass [1/kg], in the order the
+/// structure numbers them: its body's 1/m plus |r|²/I_min for the point r
+/// off the centre of mass (0 for a static or prescribed body).
+fn attachment_weights(scene: &Scene, path: &Path, text: &str) -> Result<Vec<f64>, Error> {
+    let specs = structure_section::attachments(path, text)?;
+    let bodies = scene.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
+    let weight = |a: &structure_section::AttachmentSpec| -> Result<f64, Error> {
+        let Some(spec) = bodies.iter().find(|b| b.name == a.body) else {
+            return Ok(0.0);
+        };
+        let body = rigid_proc::Body::from_spec(spec)?;
+        let w = body.inv_mass();
+        if w == 0.0 {
+            return Ok(0.0);
+        }
+        let lever = (nalgebra::Vector3::from(spec.world_point(a.point)) - body.state.x).norm();
+        let least = body
+            .mass
+            .principal
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        Ok(w + if least > 0.0 {
+            lever * lever / least
+        } else {
+            0.0
+        })
+    };
+    specs.iter().map(weight).collect()
+}
+
+/// The note and warning on the bodies' strings: ω of [`attached_omega`]
+/// over an impulse sub-step.
+fn attached_answer(answer: &mut Answer, omega: f64, c: &scenario::CouplingSection) {
+    let dt = c.window / c.impulse_substeps as f64;
+    let limit = ATTACHED_INTERVAL / omega;
+    let needed = ((omega * c.window / ATTACHED_INTERVAL).ceil() as u64).max(1);
+    answer.notes.push(format!(
+        "stability of the bodies on their strings: ω = {omega:.4e} rad/s (eq. 3.7 with each \
+         body's mass at its attachment), stable for ω·Δt_i ≤ {ATTACHED_INTERVAL} over an impulse \
+         sub-step, Δt_i ≤ {limit:.3e} s, impulse_substeps ≥ {needed}"
+    ));
+    if dt > limit {
+        answer.warnings.push(format!(
+            "the impulse sub-step Δt_i = {dt:e} s is above {limit:.3e} s, where a body's exchange \
+             with its strings is sure to be stable (ω·Δt_i = {:.3} with ω = {omega:.4e} rad/s); \
+             impulse_substeps = {needed} or more (with structure_substeps a multiple) guarantees it",
+            omega * dt
+        ));
+    }
 }
 
 /// The line `coupler check` prints.
 fn note(est: &Estimate, section: &StructureSection, name: &str) -> String {
-    let limit = match (interval(section.scheme()), est.stable_dt) {
+    let damped = match est.interval {
+        Interval::Bounded(y) if y < undamped_bound(section) => " with its damping",
+        _ => "",
+    };
+    let limit = match (est.interval, est.stable_dt) {
         (Interval::Bounded(y), Some(dt)) => format!(
-            "stable for ω_max·Δt_s ≤ {y:.3}, Δt_s ≤ {dt:.3e} s, n_s ≥ {}",
+            "stable{damped} for ω_max·Δt_s ≤ {y:.3}, Δt_s ≤ {dt:.3e} s, n_s ≥ {}",
             est.n_s
         ),
         (Interval::Empty, _) => "gains energy at every step".to_string(),
@@ -91,10 +161,19 @@ fn note(est: &Estimate, section: &StructureSection, name: &str) -> String {
     )
 }
 
+/// The scheme's interval on undamped oscillation (infinite when it has no
+/// bound).
+fn undamped_bound(section: &StructureSection) -> f64 {
+    match crate::stability::interval(section.scheme()) {
+        Interval::Bounded(y) => y,
+        _ => f64::INFINITY,
+    }
+}
+
 /// The estimate as the run's manifest records it.
-fn manifest(est: &Estimate, section: &StructureSection) -> toml::Table {
+fn manifest(est: &Estimate) -> toml::Table {
     let mut t = toml::Table::new();
-    let i = interval(section.scheme());
+    let i = est.interval;
     t.insert("omega_max".into(), est.omega_max.into());
     t.insert("interval".into(), i.label().into());
     if let Interval::Bounded(y) = i {

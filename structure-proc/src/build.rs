@@ -2,6 +2,7 @@
 
 use crate::annulus::{annulus, MeshError};
 use crate::cross::cross_canopy;
+use crate::designer::ParachuteParts;
 use crate::forces::damping::{Damper, Law};
 use crate::forces::delingette::{lame, TriangleSprings};
 use crate::lines::add_line;
@@ -9,6 +10,7 @@ use crate::model::{Attachment, Model, NodeKind, Spring};
 use crate::network::Network;
 use crate::parachute::circular_canopy;
 use crate::rectangle::{rectangle, Edge};
+use fluid_section::AIR_DENSITY;
 use std::collections::BTreeSet;
 use structure_section::parachute::CanopyShape;
 use structure_section::{Cloth, ClothHold, ClothPlane, Parachute};
@@ -189,6 +191,11 @@ fn add_parachute(
     if let (Some(until), None) = (p.release_time, body) {
         m.hold_until(hub, m.mass[hub], until);
     }
+    m.parachute = Some(ParachuteParts {
+        hub,
+        nominal_area: g.nominal_area(),
+        air_density: AIR_DENSITY,
+    });
     Ok(())
 }
 

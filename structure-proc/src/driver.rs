@@ -104,7 +104,12 @@ pub fn main<S: Stepper>(
 /// node–body impulses given so far and their sum (with collisions), its ω_max
 /// bound (constant, for the coupler's stability estimate; only when it runs
 /// the scenario's integrator), the canopy's deflection and the named points.
-fn monitors(m: &Model, omega_max: Option<f64>, obstacles: Option<&Obstacles>) -> Vec<Monitor> {
+fn monitors(
+    m: &Model,
+    omega_max: Option<f64>,
+    obstacles: Option<&Obstacles>,
+    pressure: Option<&[f64]>,
+) -> Vec<Monitor> {
     let p = m.momentum();
     let mut v = vec![
         Monitor::new("kinetic_energy", m.kinetic_energy()),
@@ -142,6 +147,7 @@ fn monitors(m: &Model, omega_max: Option<f64>, obstacles: Option<&Obstacles>) ->
             }
         }
     }
+    v.extend(m.parachute_monitors(pressure).into_iter().flatten());
     v
 }
 
@@ -199,11 +205,16 @@ pub fn run<S: Stepper>(
     let joining = participant::connect()?;
     let scene = Scene::load(joining.scenario_path(), joining.scenario(), program)?;
     let section = &scene.structure;
-    let m = build_model(
+    let mut m = build_model(
         section,
         scene.rigid.as_ref(),
         scene.scenario.coupling.structure_dt(),
     )?;
+    // The air the drag coefficient refers to: the flow's, or the porous load's.
+    let air = scene.fluid.as_ref().map(|f| f.density());
+    if let (Some(p), Some(rho)) = (&mut m.parachute, air.or(section.porous.map(|p| p.density))) {
+        p.air_density = rho;
+    }
     let obstacles = match (&section.collision, &scene.rigid) {
         (Some(spec), Some(rigid)) => Some(Obstacles::new(rigid, spec)?),
         _ => None,
@@ -213,7 +224,7 @@ pub fn run<S: Stepper>(
     let omega_max = stepper
         .is_scenario_integrator()
         .then(|| omega_max(&m.inv_mass, &m.couplings));
-    let first = monitors(&m, omega_max, obstacles.as_ref());
+    let first = monitors(&m, omega_max, obstacles.as_ref(), None);
     let n_s = scene.scenario.coupling.structure_substeps;
     let mut p = joining.declare(declaration(&m, obstacles.as_ref(), &first, n_s))?;
     let mut d = Driven {
@@ -277,7 +288,8 @@ struct Saved {
 
 impl<S: Stepper> Driven<S> {
     fn monitors(&self) -> Vec<Monitor> {
-        monitors(&self.m, self.omega_max, self.obstacles.as_ref())
+        let pressure = self.pressure.as_deref();
+        monitors(&self.m, self.omega_max, self.obstacles.as_ref(), pressure)
     }
 
     /// The schedule, to its end.

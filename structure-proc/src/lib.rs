@@ -13,6 +13,8 @@ pub mod build;
 pub mod checkpoint;
 pub mod collision;
 pub mod cross;
+pub mod damped;
+pub mod designer;
 pub mod divergence;
 pub mod driver;
 pub mod fields;

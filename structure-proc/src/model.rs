@@ -42,6 +42,8 @@ pub struct Model {
     pub points: Vec<(String, usize)>,
     /// A payload that holds the parachute until its release (`release.rs`).
     pub hold: Option<crate::release::Hold>,
+    /// A parachute's parts the designer's monitors read (`designer.rs`).
+    pub parachute: Option<crate::designer::ParachuteParts>,
 }
 
 impl std::ops::Deref for Model {

@@ -5,6 +5,8 @@
 //! `--check` answer gives to `coupler check`, the run's warning and the
 //! manifest.
 
+use crate::damped::{damped_bound, DampingRate};
+use crate::network::Network;
 use structure_section::Scheme;
 
 /// The monitor in which the structure reports its ω_max [rad/s].
@@ -74,6 +76,8 @@ impl Interval {
 pub struct Estimate {
     /// ω_max of eq. (3.7) [rad/s].
     pub omega_max: f64,
+    /// The scheme's interval with the network's damping (`damped.rs`).
+    pub interval: Interval,
     /// Largest step the scheme's interval allows, y*/ω_max [s]; None when
     /// the scheme is unconditionally stable, 0 when its interval is empty.
     pub stable_dt: Option<f64>,
@@ -84,20 +88,50 @@ pub struct Estimate {
     pub n_s_seed: u64,
 }
 
-/// Sub-steps of a window for `scheme` on a network with highest frequency `omega_max`.
-pub fn estimate(omega_max: f64, window: f64, scheme: Scheme) -> Estimate {
+/// Sub-steps of a window for `scheme` on a network with highest frequency
+/// `omega_max` and the given `damping`.
+pub fn estimate(omega_max: f64, window: f64, scheme: Scheme, damping: DampingRate) -> Estimate {
     let steps = |y: f64| ((omega_max * window / y).ceil() as u64).max(1);
     let n_s_seed = steps(SEED_OMEGA_H);
-    let (stable_dt, n_s) = match interval(scheme) {
+    let interval = match interval(scheme) {
+        Interval::Bounded(y) => Interval::Bounded(damped_bound(scheme, y, omega_max, damping)),
+        other => other,
+    };
+    let (stable_dt, n_s) = match interval {
         Interval::Unconditional => (None, 1),
         Interval::Bounded(y) => (Some(y / omega_max), steps(y)),
         Interval::Empty => (Some(0.0), n_s_seed),
     };
     Estimate {
         omega_max,
+        interval,
         stable_dt,
         n_s,
         n_s_seed,
+    }
+}
+
+/// The network's damping rate (`damped.rs`): max_i 2·Σ_j c_ij/m_i over the
+/// free nodes, its dampers built for the step `dt` [s] (thesis eq. 68's
+/// coefficients grow with it).
+pub fn damping_rate(net: &Network, dt: f64) -> DampingRate {
+    let Some(law) = net.damping else {
+        return DampingRate::None;
+    };
+    let mut csum = vec![0.0; net.inv_mass.len()];
+    for d in &net.dampers {
+        csum[d.i] += d.c;
+        csum[d.j] += d.c;
+    }
+    let gamma = csum
+        .iter()
+        .zip(&net.inv_mass)
+        .map(|(c, w)| 2.0 * c * w)
+        .fold(0.0, f64::max);
+    match law {
+        _ if gamma == 0.0 => DampingRate::None,
+        crate::forces::damping::Law::RelativeVelocity => DampingRate::PerStep(gamma / dt),
+        crate::forces::damping::Law::Axial => DampingRate::Constant(gamma),
     }
 }
 
@@ -127,6 +161,36 @@ pub fn warning(est: &Estimate, window: f64, substeps: u32, integrator: &str) -> 
         None => None,
     }
 }
+
+/// Upper bound on the highest angular frequency [rad/s] of a rigid body on
+/// the strings that hold it, eq. (3.7) node by node as [`omega_max`] does:
+/// each attached node, of effective inverse mass `weights[a]` (its body's
+/// 1/m plus the turn its point takes, |r|²/I_min), against the stiffness of
+/// the springs that reach it. The structure holds such a node on its path
+/// over an impulse sub-step while rigid-proc moves the body by the impulse:
+/// on a string to a fixed point that exchange has the one-step map of
+/// determinant 1 and trace 2 − y² (y = ω·Δt_i), stable for y ≤ 2.
+pub fn attached_omega(
+    attached: &[usize],
+    weights: &[f64],
+    couplings: &[(usize, usize, f64)],
+) -> f64 {
+    let stiffness = |node: usize| -> f64 {
+        let touching = couplings
+            .iter()
+            .filter(|(i, j, _)| *i == node || *j == node);
+        touching.map(|c| c.2).sum()
+    };
+    attached
+        .iter()
+        .zip(weights)
+        .map(|(&n, w)| (2.0 * stiffness(n) * w).sqrt())
+        .fold(0.0, f64::max)
+}
+
+/// The stability interval of a body's exchange of impulses with its
+/// strings, ω·Δt_i ≤ 2 ([`attached_omega`]).
+pub const ATTACHED_INTERVAL: f64 = 2.0;
 
 /// Upper bound on the highest angular eigenfrequency [rad/s] of the spring
 /// network, dissertation eq. (3.7) taken node by node: ω_max² ≤ max_i 2·Σ_j k_ij/m_i

@@ -6,7 +6,9 @@ pub use integrator::{AdaptiveParams, HhtParams, Integrator, NewmarkParams, Newto
 pub use parachute::{
     Cloth, ClothHold, ClothPlane, LineBreak, LineChange, Parachute, ParachuteModel,
 };
-pub use rigid_section::{default_gravity, AttachmentSpec, RigidSection, STANDARD_GRAVITY};
+pub use rigid_section::{
+    attachments, default_gravity, AttachmentSpec, RigidSection, STANDARD_GRAVITY,
+};
 use scenario::Checker;
 use serde::{Deserialize, Serialize};
 

@@ -63,6 +63,16 @@ impl CanopyGeometry {
             CanopyShape::Cross => 2.5f64.sqrt() * self.diameter / 3.0,
         }
     }
+
+    /// The nominal area S₀ the drag coefficient C_D0 refers to [m²]: the
+    /// flat canopy's, vent included (Knacke 1992, ch. 5): πD₀²/4 for a
+    /// circular canopy, five squares of side D₀/3 for a cross.
+    pub fn nominal_area(&self) -> f64 {
+        match self.shape {
+            CanopyShape::Circular => 0.25 * std::f64::consts::PI * self.diameter.powi(2),
+            CanopyShape::Cross => 5.0 * (self.diameter / 3.0).powi(2),
+        }
+    }
 }
 
 impl ParachuteModel {

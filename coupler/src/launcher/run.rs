@@ -165,12 +165,17 @@ fn launch(
     let mut manifest = manifest(checked, run_id, &end, &children, status, started);
     manifest["implicit"] = iterations.map_or(serde_json::Value::Null, |i| i.summary());
     manifest["resumed_after_window"] = json!(resume);
+    let opening = super::opening::Opening::read(&run_dir.join("monitors.csv"));
+    manifest["parachute"] = opening.map_or(serde_json::Value::Null, |o| o.to_json());
     manifest[SCENARIO_FILE] = json!(scenario_file);
     let _ = std::fs::write(
         run_dir.join("manifest.json"),
         serde_json::to_string_pretty(&manifest).unwrap_or_default(),
     );
     tell(&end, &children, run_dir, started, scenario_path);
+    if let Some(o) = opening {
+        eprintln!("{}", o.describe());
+    }
     let names: Vec<String> = checked.programs.iter().map(|(n, _)| n.clone()).collect();
     let stopped = matches!(end, End::Failed(..) | End::Interrupted);
     if stopped && !participant::restart::complete(run_dir, &names).is_empty() {

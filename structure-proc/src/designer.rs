@@ -1,0 +1,144 @@
+//! What a parachute designer reads (issue 23, item 4), every window: the
+//! payload's altitude and descent speed, the canopy's projected diameter,
+//! apex height and tilt, the air's drag on the canopy and its coefficient
+//! C_D0 = D/(½ρv²S₀) on the nominal area (Knacke, *Parachute Recovery
+//! Systems Design Manual*, 1992, ch. 5), the lines' pull on the payload and
+//! the largest line tension. The coupler's run report takes the opening
+//! time and the peak opening force from them.
+
+use crate::forces::spring::point;
+use crate::model::Model;
+use nalgebra::Vector3;
+use participant::Monitor;
+
+/// Angular sectors around the canopy's axis in which its widest reach is
+/// taken for the projected diameter.
+const SECTORS: usize = 36;
+
+/// The monitors' names, `structure.parachute.<name>`.
+pub const PARACHUTE_MONITORS: [&str; 9] = [
+    "parachute.altitude",
+    "parachute.descent_speed",
+    "parachute.projected_diameter",
+    "parachute.apex_height",
+    "parachute.tilt",
+    "parachute.drag",
+    "parachute.drag_coefficient",
+    "parachute.payload_force",
+    "parachute.line_tension_max",
+];
+
+/// What the monitors need to know of a parachute beyond its nodes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParachuteParts {
+    /// The confluence, where the payload hangs.
+    pub hub: usize,
+    /// The nominal area S₀ [m²].
+    pub nominal_area: f64,
+    /// The air's density ρ [kg/m³] for C_D0.
+    pub air_density: f64,
+}
+
+impl Model {
+    /// The designer's monitors, with the fluid's pressure jump per canopy
+    /// triangle (`pressure`; the drag is NaN without it). None for a model
+    /// without a parachute.
+    pub fn parachute_monitors(&self, pressure: Option<&[f64]>) -> Option<Vec<Monitor>> {
+        let p = self.parachute?;
+        let x = &self.x;
+        let payload = point(x, p.hub);
+        let velocity = point(&self.v, p.hub);
+        let centroid = (0..self.canopy_nodes)
+            .map(|n| point(x, n))
+            .sum::<Vector3<f64>>()
+            / self.canopy_nodes.max(1) as f64;
+        // The canopy's axis, from the payload up through its centroid.
+        let axis = (centroid - payload).normalize();
+        let apex = self.vent.iter().map(|&n| point(x, n)).sum::<Vector3<f64>>()
+            / self.vent.len().max(1) as f64;
+        let speed = velocity.norm();
+        let drag = pressure.map_or(f64::NAN, |jump| {
+            // The air's force on the canopy against the payload's motion.
+            let force = self.canopy_force(jump);
+            match speed > 0.0 {
+                true => -force.dot(&velocity) / speed,
+                false => force.dot(&Vector3::z()),
+            }
+        });
+        let values = [
+            payload.z,
+            -velocity.z,
+            self.projected_diameter(&axis, &centroid),
+            (apex - payload).dot(&axis),
+            axis.z.clamp(-1.0, 1.0).acos().to_degrees(),
+            drag,
+            drag / (0.5 * p.air_density * speed * speed * p.nominal_area),
+            self.payload_force(p.hub).norm(),
+            self.largest_line_tension(),
+        ];
+        let names = PARACHUTE_MONITORS.iter();
+        Some(
+            names
+                .zip(values)
+                .map(|(n, v)| Monitor::new(*n, v))
+                .collect(),
+        )
+    }
+
+    /// Σ jump·area·n over the canopy's triangles [N] (the load the
+    /// structure takes, n the normal of the vertex order).
+    fn canopy_force(&self, jump: &[f64]) -> Vector3<f64> {
+        let x = &self.x;
+        self.triangles
+            .iter()
+            .zip(jump)
+            .map(|(t, j)| {
+                let [a, b, c] = t.map(|n| point(x, n));
+                (b - a).cross(&(c - a)) * (0.5 * j)
+            })
+            .sum()
+    }
+
+    /// The mean over sectors around `axis` of the canopy's widest reach
+    /// from it, doubled [m]: the diameter of its projection on the plane
+    /// across the axis.
+    fn projected_diameter(&self, axis: &Vector3<f64>, centre: &Vector3<f64>) -> f64 {
+        let u = axis
+            .cross(&Vector3::x())
+            .try_normalize(1e-9)
+            .unwrap_or_else(|| axis.cross(&Vector3::y()).normalize());
+        let w = axis.cross(&u);
+        let mut reach = [0.0f64; SECTORS];
+        for n in 0..self.canopy_nodes {
+            let r = point(&self.x, n) - centre;
+            let (a, b) = (r.dot(&u), r.dot(&w));
+            let angle = b.atan2(a) + std::f64::consts::PI;
+            let s = ((angle / std::f64::consts::TAU * SECTORS as f64) as usize).min(SECTORS - 1);
+            reach[s] = reach[s].max(a.hypot(b));
+        }
+        let filled: Vec<f64> = reach.into_iter().filter(|r| *r > 0.0).collect();
+        2.0 * filled.iter().sum::<f64>() / filled.len().max(1) as f64
+    }
+
+    /// The lines' pull on the confluence `hub` [N].
+    fn payload_force(&self, hub: usize) -> Vector3<f64> {
+        let x = &self.x;
+        let pulls = self.lines.iter().flat_map(|l| &l.springs).map(|&s| {
+            let s = &self.net.springs[s];
+            match (s.i == hub, s.j == hub) {
+                (true, _) => s.force(x),
+                (_, true) => -s.force(x),
+                _ => Vector3::zeros(),
+            }
+        });
+        pulls.sum()
+    }
+
+    /// The largest tension in any line segment [N].
+    fn largest_line_tension(&self) -> f64 {
+        let springs = self.lines.iter().flat_map(|l| &l.springs);
+        springs.fold(0.0, |most, &s| {
+            most.max(self.net.springs[s].tension(&self.x))
+        })
+    }
+}
