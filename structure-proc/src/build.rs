@@ -10,7 +10,6 @@ use crate::model::{Attachment, Model, NodeKind, Spring};
 use crate::network::Network;
 use crate::parachute::circular_canopy;
 use crate::rectangle::{rectangle, Edge};
-use fluid_section::AIR_DENSITY;
 use std::collections::BTreeSet;
 use structure_section::parachute::CanopyShape;
 use structure_section::{Cloth, ClothHold, ClothPlane, Parachute};
@@ -194,7 +193,7 @@ fn add_parachute(
     m.parachute = Some(ParachuteParts {
         hub,
         nominal_area: g.nominal_area(),
-        air_density: AIR_DENSITY,
+        air_density: None,
     });
     Ok(())
 }

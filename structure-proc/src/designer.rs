@@ -15,7 +15,8 @@ use participant::Monitor;
 /// taken for the projected diameter.
 const SECTORS: usize = 36;
 
-/// The monitors' names, `structure.parachute.<name>`.
+/// The monitors' names, `structure.parachute.<name>`; `drag` and
+/// `drag_coefficient` only where a fluid sends the canopy's pressure.
 pub const PARACHUTE_MONITORS: [&str; 9] = [
     "parachute.altitude",
     "parachute.descent_speed",
@@ -35,8 +36,9 @@ pub struct ParachuteParts {
     pub hub: usize,
     /// The nominal area S₀ [m²].
     pub nominal_area: f64,
-    /// The air's density ρ [kg/m³] for C_D0.
-    pub air_density: f64,
+    /// The air's density ρ [kg/m³] for C_D0; None without a fluid, which
+    /// leaves the drag monitors out.
+    pub air_density: Option<f64>,
 }
 
 impl Model {
@@ -72,17 +74,14 @@ impl Model {
             (apex - payload).dot(&axis),
             axis.z.clamp(-1.0, 1.0).acos().to_degrees(),
             drag,
-            drag / (0.5 * p.air_density * speed * speed * p.nominal_area),
+            drag / (0.5 * p.air_density.unwrap_or(f64::NAN) * speed * speed * p.nominal_area),
             self.payload_force(p.hub).norm(),
             self.largest_line_tension(),
         ];
         let names = PARACHUTE_MONITORS.iter();
-        Some(
-            names
-                .zip(values)
-                .map(|(n, v)| Monitor::new(*n, v))
-                .collect(),
-        )
+        let monitors = names.zip(values).map(|(n, v)| Monitor::new(*n, v));
+        let aired = |m: &Monitor| p.air_density.is_some() || !m.name.contains("drag");
+        Some(monitors.filter(aired).collect())
     }
 
     /// Σ jump·area·n over the canopy's triangles [N] (the load the

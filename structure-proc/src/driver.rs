@@ -210,10 +210,10 @@ pub fn run<S: Stepper>(
         scene.rigid.as_ref(),
         scene.scenario.coupling.structure_dt(),
     )?;
-    // The air the drag coefficient refers to: the flow's, or the porous load's.
-    let air = scene.fluid.as_ref().map(|f| f.density());
-    if let (Some(p), Some(rho)) = (&mut m.parachute, air.or(section.porous.map(|p| p.density))) {
-        p.air_density = rho;
+    // The air the drag refers to: a fluid process sends the canopy's
+    // pressure (a structure's own porous load is not a monitor's).
+    if let Some(p) = &mut m.parachute {
+        p.air_density = scene.fluid.as_ref().map(|f| f.density());
     }
     let obstacles = match (&section.collision, &scene.rigid) {
         (Some(spec), Some(rigid)) => Some(Obstacles::new(rigid, spec)?),

@@ -82,7 +82,10 @@ fn coarse(name: &str, run: &str, end: f64, change: impl FnOnce(&mut Scenario)) -
 /// The mean of monitor `name` over the rows from `from` to `to` [s].
 fn mean_over(m: &Monitors, name: &str, from: f64, to: f64) -> f64 {
     let (t, v) = (m.column("time"), m.column(name));
-    let picked: Vec<f64> = (0..t.len()).filter(|&i| t[i] >= from && t[i] <= to).map(|i| v[i]).collect();
+    let picked: Vec<f64> = (0..t.len())
+        .filter(|&i| t[i] >= from && t[i] <= to)
+        .map(|i| v[i])
+        .collect();
     picked.iter().sum::<f64>() / picked.len() as f64
 }
 
@@ -101,14 +104,26 @@ fn uneven_and_broken_lines_tilt_the_c9() {
     });
     let uneven = coarse("c9-uneven-lines", "uneven", 4.0, |_| {});
     let broken = coarse("c9-broken-lines", "broken", 6.5, |_| {});
-    let (level, angled) = (mean_over(&even, tilt, 2.0, 4.0), mean_over(&uneven, tilt, 2.0, 4.0));
-    assert!(level < 5.0 && angled > 15.0, "tilt {level}° even, {angled}° uneven");
+    let (level, angled) = (
+        mean_over(&even, tilt, 2.0, 4.0),
+        mean_over(&uneven, tilt, 2.0, 4.0),
+    );
+    assert!(
+        level < 5.0 && angled > 15.0,
+        "tilt {level}° even, {angled}° uneven"
+    );
     let t = even.column("time");
     let before = t.iter().position(|&t| t > 5.0).unwrap();
     assert_eq!(even.column(tilt)[..before], broken.column(tilt)[..before]);
     let after = mean_over(&broken, tilt, 5.5, 6.5);
     let speed = "structure.parachute.descent_speed";
-    let (slow, fast) = (mean_over(&even, speed, 5.5, 6.5), mean_over(&broken, speed, 5.5, 6.5));
+    let (slow, fast) = (
+        mean_over(&even, speed, 5.5, 6.5),
+        mean_over(&broken, speed, 5.5, 6.5),
+    );
     assert!(after > 15.0, "tilt {after}° after the break");
-    assert!(fast > 1.2 * slow, "{fast} m/s on 18 lines, {slow} m/s on 28");
+    assert!(
+        fast > 1.2 * slow,
+        "{fast} m/s on 18 lines, {slow} m/s on 28"
+    );
 }
