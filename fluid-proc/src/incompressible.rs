@@ -12,8 +12,8 @@
 //! 3. p^{n+½} = q + φ − (νΔt/2)∇²φ.
 //!
 //! Pressures here are kinematic (p/ρ, m²/s²); `pressure` gives pascals.
-//! The side velocities are held fixed in time, and u* takes them as its
-//! boundary values.
+//! The side velocities are held fixed in time, but in a box that follows
+//! the parachute (`frame.rs`), and u* takes them as its boundary values.
 //!
 //! Split among ranks, each holds its slab of the box (`part.rs`): `u`, `q`
 //! and the fields it returns are the slab's, and the sums and extrema it
