@@ -20,6 +20,11 @@ pub struct Bodies {
     restitution: Vec<f64>,
     /// Contact impulses applied so far.
     pub contact_impulses: u64,
+    /// Each body's motion as the scene gives it; one with a release time
+    /// moves as a prescribed body before it (`Body::motion_at`).
+    motions: Vec<rigid_section::Motion>,
+    /// Time since the start [s], summed over the steps.
+    pub time: f64,
 }
 
 impl Bodies {
@@ -41,19 +46,31 @@ impl Bodies {
             })
             .collect::<Result<Vec<_>, String>>()?;
         let restitution = (0..s.bodies.len()).map(|i| s.body_restitution(i)).collect();
-        Ok(Bodies {
+        let mut all = Bodies {
+            motions: bodies.iter().map(|b| b.motion).collect(),
             bodies,
             gravity: Vector3::from(s.gravity),
             attachments,
             restitution,
             contact_impulses: 0,
-        })
+            time: 0.0,
+        };
+        all.hold();
+        Ok(all)
+    }
+
+    /// Each body's motion at the present time: held until its release.
+    pub fn hold(&mut self) {
+        for (body, &scene) in self.bodies.iter_mut().zip(&self.motions) {
+            body.motion = body.motion_at(self.time, scene);
+        }
     }
 
     /// One sub-step of `h`: the impulses `impulse` (3 per attachment point,
     /// world axes) act at their points, contacts are resolved, and every body
     /// moves under gravity and `loads` (one per body, or none).
     pub fn step(&mut self, h: f64, impulse: &[f64], loads: &[Load]) {
+        self.hold();
         for (&(b, r), j) in self.attachments.iter().zip(impulse.chunks_exact(3)) {
             let p = self.bodies[b].world_point(&r);
             self.bodies[b].apply_impulse(&p, &Vector3::new(j[0], j[1], j[2]));
@@ -73,6 +90,8 @@ impl Bodies {
         for (i, body) in self.bodies.iter_mut().enumerate() {
             advance(body, loads.get(i).unwrap_or(&none), &self.gravity, h);
         }
+        self.time += h;
+        self.hold();
     }
 
     /// `loads` (one per body, or none) with the impulses `impulse` (3 per

@@ -34,6 +34,8 @@ pub struct Body {
     pub shape: Option<Shape>,
     /// Linear viscous drag b [N·s/m].
     pub damping: f64,
+    /// Held (moving as a prescribed body) until this time [s].
+    pub release_time: Option<f64>,
     pub state: State,
 }
 
@@ -61,6 +63,7 @@ impl Body {
             mass,
             shape,
             damping: spec.linear_damping,
+            release_time: spec.release_time,
             state: State {
                 x,
                 v: Vector3::from(spec.velocity),
@@ -68,6 +71,16 @@ impl Body {
                 w,
             },
         })
+    }
+
+    /// The body's motion over a step from `time` [s]: a dynamic body held
+    /// until its release time moves as a prescribed one before it.
+    pub fn motion_at(&self, time: f64, scene: Motion) -> Motion {
+        match self.release_time {
+            // Within round-off of the sub-steps' summed time.
+            Some(t) if time < t - 1e-9 * t.abs().max(1e-3) => Motion::Prescribed,
+            _ => scene,
+        }
     }
 
     /// Write the state as the bodies' fields carry it ([`STATE_LEN`] values):

@@ -2,7 +2,8 @@
 //! start of a coupling window so that implicit coupling can take the
 //! window again, bit for bit, from the same inputs. That is every body's
 //! state (centre, velocity, Euler parameters, angular velocity) and the
-//! count of contact impulses; no contact persists from step to step (each
+//! count of contact impulses and the time (which says whether a body is
+//! still held until its release); no contact persists from step to step (each
 //! step detects its own, `contact.rs`), and shapes and masses do not change.
 
 //!
@@ -19,6 +20,8 @@ pub struct Checkpoint {
     /// angular velocity.
     states: Vec<[f64; 13]>,
     contact_impulses: u64,
+    /// The bodies' time, which says which are still held.
+    time: f64,
 }
 
 impl Bodies {
@@ -28,6 +31,7 @@ impl Bodies {
         into.states
             .extend(self.bodies.iter().map(|b| pack(&b.state)));
         into.contact_impulses = self.contact_impulses;
+        into.time = self.time;
     }
 
     /// Return to the state `from` holds.
@@ -36,5 +40,7 @@ impl Bodies {
             body.state = unpack(state);
         }
         self.contact_impulses = from.contact_impulses;
+        self.time = from.time;
+        self.hold();
     }
 }

@@ -21,6 +21,7 @@ fn body(i: [f64; 3], e: ep::EulerParameters, w: [f64; 3]) -> Body {
         ),
         shape: None,
         damping: 0.0,
+        release_time: None,
         state: State {
             x: Vector3::zeros(),
             v: Vector3::zeros(),

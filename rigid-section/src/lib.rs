@@ -71,6 +71,12 @@ pub struct BodySpec {
     /// b = c/L² gives the damping torque −c·θ̇ of thesis eq. (61).
     #[serde(default)]
     pub linear_damping: f64,
+    /// A dynamic body held until this time [s]: it moves on at its
+    /// `velocity` and `angular_velocity` whatever acts on it (as a
+    /// prescribed one), then by its loads (a payload that holds its
+    /// parachute until release).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub release_time: Option<f64>,
 }
 
 /// How a body moves.
@@ -232,6 +238,17 @@ impl RigidSection {
                     c.finite3(&["velocity"], b.velocity);
                     c.finite3(&["angular_velocity"], b.angular_velocity);
                     c.finite_nonneg(&["linear_damping"], b.linear_damping);
+                    if let Some(t) = b.release_time {
+                        c.finite_nonneg(&["release_time"], t);
+                        if b.motion != Motion::Dynamic {
+                            c.problem(
+                                &["release_time"],
+                                "release_time holds a dynamic body until then: this one \
+                                 never moves by its loads"
+                                    .into(),
+                            );
+                        }
+                    }
                     match b.restitution {
                         Some(r) => check_restitution(c, r),
                         None if shaped >= 2 && b.shape.is_some() && self.restitution.is_none() => {

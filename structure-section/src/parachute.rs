@@ -316,8 +316,8 @@ impl Parachute {
             if self.body.is_some() {
                 c.problem(
                     &["release_time"],
-                    "release_time holds a mass-point payload (payload_mass); a body payload \
-                     moves as [[rigid.bodies]] says"
+                    "release_time here holds a mass-point payload (payload_mass); hold a body \
+                     payload with its own release_time in [[rigid.bodies]]"
                         .into(),
                 );
             }

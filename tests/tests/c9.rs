@@ -220,3 +220,45 @@ fn a_held_payload_moves_at_the_release_velocity_until_it_lets_go() {
         vz[last]
     );
 }
+
+/// The same with the payload a rigid body (`c9-drop-body.toml`): held by
+/// its own `release_time` in `[[rigid.bodies]]`, rigid-proc moves it as a
+/// prescribed body, whatever the lines pull, to round-off, then by its
+/// loads.
+#[test]
+fn a_held_body_payload_moves_at_its_velocity_until_it_lets_go() {
+    let dir = scratch("c9-held-body");
+    let path = variant("c9-drop-body", &dir, |s| {
+        s.run.end_time = 0.2;
+        s.run.output_interval = 0.0;
+        let p = s.structure.as_mut().unwrap().parachute.as_mut().unwrap();
+        p.resolution = 4;
+        let body = &mut s.rigid.as_mut().unwrap().bodies[0];
+        body.velocity = [0.0, 0.0, -5.0];
+        body.release_time = Some(0.1);
+    });
+    run_ok(&path, &dir.join("run"));
+    let m = Monitors::read(&dir.join("run"));
+    let (t, z, vz) = (
+        m.column("time"),
+        m.column("rigid.jumper.z"),
+        m.column("rigid.jumper.vz"),
+    );
+    for i in 0..t.len() {
+        if t[i] <= 0.1 + 1e-12 {
+            assert!(
+                (z[i] - (z[0] - 5.0 * t[i])).abs() < 1e-9,
+                "t = {}: z = {}",
+                t[i],
+                z[i]
+            );
+            assert_eq!(vz[i], -5.0, "t = {}", t[i]);
+        }
+    }
+    let last = vz.len() - 1;
+    assert!(
+        vz[last] < -5.0 - 0.5 * 9.81 * 0.1,
+        "vz = {} m/s at 0.2 s",
+        vz[last]
+    );
+}
