@@ -211,6 +211,36 @@ fn a_killed_canopy_in_the_flow_restarts_to_the_same_results() {
     rank_1_wrote_its_part(&dir, &fluid);
 }
 
+/// The same with the box following the canopy (`[fluid.frame]`): the box's
+/// place and motion go into each rank's run checkpoint, and the window it
+/// resumes aims the box as the whole run did.
+#[test]
+fn a_killed_box_that_follows_the_canopy_restarts_to_the_same_results() {
+    let dir = scratch("restart-frame");
+    let fluid = mpi_fluid_proc();
+    let scenario = variant("canopy-flow", &dir, |s| {
+        s.run.end_time = 0.06;
+        s.run.output_interval = 0.02;
+        s.run.checkpoint_interval = Some(0.01);
+        s.coupling.window = 9e-4;
+        let f = s.fluid.as_mut().unwrap();
+        f.flow_box.as_mut().unwrap().cells = [20, 20, 27];
+        f.frame = Some(fluid_section::frame::FrameSpec {
+            follow: "canopy".into(),
+            velocity: None,
+            altitude: None,
+        });
+        on_two_ranks(s, &fluid);
+    });
+    restart_matches_whole_run("canopy-flow", &scenario, &dir, &["fluid", "structure"]);
+    let m = Monitors::read(&dir.join("whole"));
+    let moved = m.column("fluid.frame_descent_speed");
+    assert!(
+        moved.iter().any(|v| v.abs() > 1e-3),
+        "the box never moved: {moved:?}"
+    );
+}
+
 /// The Sod shock tube of the euler model, on 2 000 cells so that it runs
 /// long enough to be killed, on two MPI ranks where MPI is installed:
 /// each rank's conserved cells and the time.
