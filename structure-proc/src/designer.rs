@@ -43,7 +43,7 @@ pub struct ParachuteParts {
 
 impl Model {
     /// The designer's monitors, with the fluid's pressure jump per canopy
-    /// triangle (`pressure`; the drag is NaN without it). None for a model
+    /// triangle (`pressure`; the drag is NaN before the first). None for a model
     /// without a parachute.
     pub fn parachute_monitors(&self, pressure: Option<&[f64]>) -> Option<Vec<Monitor>> {
         let p = self.parachute?;

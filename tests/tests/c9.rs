@@ -262,3 +262,38 @@ fn a_held_body_payload_moves_at_its_velocity_until_it_lets_go() {
         vz[last]
     );
 }
+
+/// The designer's monitors on the C-9 as built, flat at z = 0 above its
+/// payload on unstretched lines of 7 m: projected diameter D₀ = 8.534 m
+/// (the skirt polygon's corners lie on the circle), apex (the centre node)
+/// √(7² − (D₀/2)²) = 5.549 m above the payload, level, the lines slack.
+#[test]
+fn the_designers_monitors_read_the_flat_c9_as_built() {
+    let path = scenario_path("c9-drop");
+    let s = canopy_tests::Scenario::load(&path).unwrap();
+    let model = build_model(s.structure.as_ref().unwrap(), None, 1e-4).unwrap();
+    let monitors = model.parachute_monitors(None).unwrap();
+    let read = |name: &str| {
+        let full = format!("parachute.{name}");
+        monitors
+            .iter()
+            .find(|m| m.name == full)
+            .map(|m| m.value)
+            .unwrap()
+    };
+    let drop = (49.0f64 - 4.267f64.powi(2)).sqrt();
+    assert!(
+        (read("projected_diameter") / 8.534 - 1.0).abs() < 1e-3,
+        "{}",
+        read("projected_diameter")
+    );
+    assert!(
+        (read("apex_height") - drop).abs() < 1e-3,
+        "{}",
+        read("apex_height")
+    );
+    assert!((read("altitude") + drop).abs() < 1e-3);
+    assert!(read("tilt").abs() < 1e-9 && read("payload_force") < 1e-9);
+    // No fluid: the drag monitors are left out.
+    assert!(monitors.iter().all(|m| !m.name.contains("drag")));
+}
