@@ -46,9 +46,9 @@ impl Frame {
     /// change of velocity.
     fn advance(&mut self, dt: f64) -> [f64; 3] {
         let dv = self.acceleration.map(|a| a * dt);
-        for d in 0..3 {
-            self.offset[d] += (self.velocity[d] + 0.5 * dv[d]) * dt;
-            self.velocity[d] += dv[d];
+        for ((x, v), dv) in self.offset.iter_mut().zip(&mut self.velocity).zip(dv) {
+            *x += (*v + 0.5 * dv) * dt;
+            *v += dv;
         }
         dv
     }
