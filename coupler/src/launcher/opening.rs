@@ -44,10 +44,11 @@ impl Opening {
         let mut lines = text.lines();
         let header: Vec<&str> = lines.next()?.split(',').collect();
         let at = |name: &str| header.iter().position(|h| *h == format!("{PREFIX}{name}"));
+        // Without a fluid process there is no drag: its column reads NaN.
         let columns = [
             0,
             at("descent_speed")?,
-            at("drag_coefficient")?,
+            at("drag_coefficient").unwrap_or(usize::MAX),
             at("projected_diameter")?,
             at("payload_force")?,
         ];
@@ -58,7 +59,7 @@ impl Opening {
                     .collect::<Vec<f64>>()
             })
             .filter(|r| r.len() == header.len())
-            .map(|r| columns.map(|c| r[c]))
+            .map(|r| columns.map(|c| r.get(c).copied().unwrap_or(f64::NAN)))
             .collect();
         Opening::of(&rows)
     }
@@ -108,13 +109,16 @@ impl Opening {
         let opening = self
             .opening_time
             .map_or("not reached".into(), |t| format!("{t:.2} s"));
+        let cd = match self.drag_coefficient.is_nan() {
+            true => "no C_D0 (no fluid)".to_string(),
+            false => format!("C_D0 {:.3}", self.drag_coefficient),
+        };
         format!(
-            "parachute: steady descent {:.3} m/s (spread {:.1} % after t = {:.2} s), C_D0 {:.3}, \
+            "parachute: steady descent {:.3} m/s (spread {:.1} % after t = {:.2} s), {cd}, \
              projected diameter {:.2} m, opening time {opening}, peak opening force {:.0} N",
             self.descent_speed,
             100.0 * self.speed_spread,
             self.steady_from,
-            self.drag_coefficient,
             self.projected_diameter,
             self.peak_opening_force
         )
