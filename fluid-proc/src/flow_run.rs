@@ -249,17 +249,8 @@ fn run(
     comm: Arc<dyn Comm>,
 ) -> Result<u64, Stopped> {
     let c = comm.as_ref();
-    let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
-    let mut io = Interface {
-        loads: vec![0.0; 6 * f.flow.bodies.len()],
-        bodies,
-        canopy: FlowCanopy::new(section, origin),
-        with_canopy: p.is_connected(CANOPY_POSITIONS),
-        jump_monitor,
-        probes: section.probes.clone().unwrap_or_default(),
-        origin,
-        following: section.frame.clone().map(Following::new),
-    };
+    let mut io = Interface::new(p, f, section, bodies, jump_monitor);
+    let origin = io.origin;
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
     loop {
@@ -378,6 +369,28 @@ impl Following {
 }
 
 impl Interface {
+    /// What rank 0 answers for `f`, the scenario's `section`, its
+    /// `bodies`, and whether the canopy's mean jump is a monitor.
+    fn new(
+        p: &Participant,
+        f: &Flow,
+        section: &FluidSection,
+        bodies: FlowBodies,
+        jump_monitor: bool,
+    ) -> Interface {
+        let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
+        Interface {
+            loads: vec![0.0; 6 * f.flow.bodies.len()],
+            bodies,
+            canopy: FlowCanopy::new(section, origin),
+            with_canopy: p.is_connected(CANOPY_POSITIONS),
+            jump_monitor,
+            probes: section.probes.clone().unwrap_or_default(),
+            origin,
+            following: section.frame.clone().map(Following::new),
+        }
+    }
+
     /// The probes' monitors from the cells they read (none without probes).
     fn probe_monitors(&self, flow: &Incompressible, probed: Probed) -> Vec<Monitor> {
         if self.probes.is_empty() {

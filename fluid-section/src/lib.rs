@@ -226,61 +226,8 @@ impl FluidSection {
 
     pub fn check(&self, c: &mut Checker) {
         c.within("fluid", None, |c| {
-            let model = self.model.name();
-            let given = [
-                ("density", self.density.is_some()),
-                ("viscosity", self.viscosity.is_some()),
-                ("free_stream", self.free_stream.is_some()),
-                ("porosity", self.porosity.is_some()),
-                ("diameter", self.diameter.is_some()),
-                ("thickness", self.thickness.is_some()),
-                ("box", self.flow_box.is_some()),
-                ("sides", self.sides.is_some()),
-                ("initial_velocity", self.initial_velocity.is_some()),
-                ("probes", self.probes.is_some()),
-                ("frame", self.frame.is_some()),
-                ("gamma", self.gamma.is_some()),
-                ("cfl", self.cfl.is_some()),
-                ("regions", self.regions.is_some()),
-            ];
-            let (_, takes, needs) = MODEL_KEYS
-                .iter()
-                .find(|(m, _, _)| *m == self.model)
-                .expect("every model has its keys");
-            if let Some((key, _)) = given.iter().find(|(k, g)| *g && !takes.contains(k)) {
-                c.problem(&[key], format!("{key} is not a key of model = \"{model}\""));
-            }
-            if let Some(key) = needs
-                .iter()
-                .find(|k| given.iter().any(|(g, on)| g == *k && !on))
-            {
-                c.problem(
-                    &["model"],
-                    format!("model = \"{model}\" needs the key `{key}` in [fluid]"),
-                );
-            }
-            let fabric = [self.porosity, self.diameter, self.thickness];
-            let some = fabric.iter().filter(|k| k.is_some()).count();
-            if self.model == FluidModel::Incompressible && (1..3).contains(&some) {
-                let keys = ["porosity", "diameter", "thickness"];
-                let at = |given: bool| {
-                    keys[fabric
-                        .iter()
-                        .position(|k| k.is_some() == given)
-                        .unwrap_or(0)]
-                };
-                let missing = at(false);
-                c.problem(
-                    &[at(true)],
-                    format!(
-                        "porosity, diameter and thickness make the canopy's fabric porous \
-                         together: give `{missing}` too, or none of them for a closed fabric"
-                    ),
-                );
-            }
-            if let Some(load) = self.porous_load().or(self.fabric()) {
-                load.check(c);
-            }
+            self.check_model_keys(c);
+            self.check_fabric(c);
             c.positive(&["density"], self.density(), "kg/m³");
             c.positive(&["viscosity"], self.viscosity(), "Pa·s");
             if self.model == FluidModel::Euler {
@@ -307,5 +254,69 @@ impl FluidSection {
                 frame.check(c, self.resolved_sides());
             }
         });
+    }
+
+    /// Every key given is one the model takes, and the model's needed
+    /// keys are given.
+    fn check_model_keys(&self, c: &mut Checker) {
+        let model = self.model.name();
+        let given = [
+            ("density", self.density.is_some()),
+            ("viscosity", self.viscosity.is_some()),
+            ("free_stream", self.free_stream.is_some()),
+            ("porosity", self.porosity.is_some()),
+            ("diameter", self.diameter.is_some()),
+            ("thickness", self.thickness.is_some()),
+            ("box", self.flow_box.is_some()),
+            ("sides", self.sides.is_some()),
+            ("initial_velocity", self.initial_velocity.is_some()),
+            ("probes", self.probes.is_some()),
+            ("frame", self.frame.is_some()),
+            ("gamma", self.gamma.is_some()),
+            ("cfl", self.cfl.is_some()),
+            ("regions", self.regions.is_some()),
+        ];
+        let (_, takes, needs) = MODEL_KEYS
+            .iter()
+            .find(|(m, _, _)| *m == self.model)
+            .expect("every model has its keys");
+        if let Some((key, _)) = given.iter().find(|(k, g)| *g && !takes.contains(k)) {
+            c.problem(&[key], format!("{key} is not a key of model = \"{model}\""));
+        }
+        if let Some(key) = needs
+            .iter()
+            .find(|k| given.iter().any(|(g, on)| g == *k && !on))
+        {
+            c.problem(
+                &["model"],
+                format!("model = \"{model}\" needs the key `{key}` in [fluid]"),
+            );
+        }
+    }
+
+    /// The fabric's three keys come together and hold valid values.
+    fn check_fabric(&self, c: &mut Checker) {
+        let fabric = [self.porosity, self.diameter, self.thickness];
+        let some = fabric.iter().filter(|k| k.is_some()).count();
+        if self.model == FluidModel::Incompressible && (1..3).contains(&some) {
+            let keys = ["porosity", "diameter", "thickness"];
+            let at = |given: bool| {
+                keys[fabric
+                    .iter()
+                    .position(|k| k.is_some() == given)
+                    .unwrap_or(0)]
+            };
+            let missing = at(false);
+            c.problem(
+                &[at(true)],
+                format!(
+                    "porosity, diameter and thickness make the canopy's fabric porous \
+                         together: give `{missing}` too, or none of them for a closed fabric"
+                ),
+            );
+        }
+        if let Some(load) = self.porous_load().or(self.fabric()) {
+            load.check(c);
+        }
     }
 }

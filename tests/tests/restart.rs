@@ -197,15 +197,8 @@ fn an_interrupted_canopy_in_the_stream_restarts_to_the_same_results() {
 fn a_killed_canopy_in_the_flow_restarts_to_the_same_results() {
     let dir = scratch("restart-flow");
     let fluid = mpi_fluid_proc();
-    let scenario = variant("canopy-flow", &dir, |s| {
-        s.run.end_time = 0.06;
-        s.run.output_interval = 0.02;
-        s.run.checkpoint_interval = Some(0.01);
-        s.coupling.window = 9e-4;
+    let scenario = short_canopy_flow(&dir, &fluid, |s| {
         s.coupling.scheme = scenario::SchemeName::Implicit;
-        let b = s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap();
-        b.cells = [20, 20, 27];
-        on_two_ranks(s, &fluid);
     });
     restart_matches_whole_run("canopy-flow", &scenario, &dir, &["fluid", "structure"]);
     rank_1_wrote_its_part(&dir, &fluid);
@@ -218,19 +211,12 @@ fn a_killed_canopy_in_the_flow_restarts_to_the_same_results() {
 fn a_killed_box_that_follows_the_canopy_restarts_to_the_same_results() {
     let dir = scratch("restart-frame");
     let fluid = mpi_fluid_proc();
-    let scenario = variant("canopy-flow", &dir, |s| {
-        s.run.end_time = 0.06;
-        s.run.output_interval = 0.02;
-        s.run.checkpoint_interval = Some(0.01);
-        s.coupling.window = 9e-4;
-        let f = s.fluid.as_mut().unwrap();
-        f.flow_box.as_mut().unwrap().cells = [20, 20, 27];
-        f.frame = Some(fluid_section::frame::FrameSpec {
+    let scenario = short_canopy_flow(&dir, &fluid, |s| {
+        s.fluid.as_mut().unwrap().frame = Some(fluid_section::frame::FrameSpec {
             follow: "canopy".into(),
             velocity: None,
             altitude: None,
         });
-        on_two_ranks(s, &fluid);
     });
     restart_matches_whole_run("canopy-flow", &scenario, &dir, &["fluid", "structure"]);
     let m = Monitors::read(&dir.join("whole"));
@@ -256,6 +242,25 @@ fn a_killed_shock_tube_restarts_to_the_same_results() {
     });
     restart_matches_whole_run("sod", &scenario, &dir, &["fluid"]);
     rank_1_wrote_its_part(&dir, &fluid);
+}
+
+/// `canopy-flow.toml` for 0.06 s on 20 × 20 × 27 cells, a run checkpoint
+/// every 0.01 s, the fluid on two ranks of `fluid` if any, changed by
+/// `change`.
+fn short_canopy_flow(
+    dir: &Path,
+    fluid: &Option<std::path::PathBuf>,
+    change: impl FnOnce(&mut Scenario),
+) -> std::path::PathBuf {
+    variant("canopy-flow", dir, |s| {
+        s.run.end_time = 0.06;
+        s.run.output_interval = 0.02;
+        s.run.checkpoint_interval = Some(0.01);
+        s.coupling.window = 9e-4;
+        s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap().cells = [20, 20, 27];
+        change(s);
+        on_two_ranks(s, fluid);
+    })
 }
 
 /// The fluid of `s` on two ranks of `fluid` (built with MPI), if any.
