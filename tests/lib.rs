@@ -198,6 +198,26 @@ impl Monitors {
             .unwrap_or_else(|| panic!("no column {name} in {:?}", self.header));
         self.rows.iter().map(|r| r[i]).collect()
     }
+
+    /// The mean of monitor `name` over the rows from `from` to `to` [s].
+    pub fn mean_over(&self, name: &str, from: f64, to: f64) -> f64 {
+        let (t, v) = (self.column("time"), self.column(name));
+        let picked: Vec<f64> = (0..t.len())
+            .filter(|&i| t[i] >= from && t[i] <= to)
+            .map(|i| v[i])
+            .collect();
+        picked.iter().sum::<f64>() / picked.len() as f64
+    }
+
+    /// Monitor `name` in the first row at or after `time` [s].
+    pub fn at(&self, name: &str, time: f64) -> f64 {
+        let t = self.column("time");
+        let row = t
+            .iter()
+            .position(|&t| t >= time - 1e-9)
+            .expect("a row at that time");
+        self.column(name)[row]
+    }
 }
 
 pub fn manifest(run: &Path) -> serde_json::Value {

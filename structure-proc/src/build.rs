@@ -3,6 +3,7 @@
 use crate::annulus::{annulus, MeshError};
 use crate::cross::cross_canopy;
 use crate::designer::ParachuteParts;
+use crate::dome::{confluence_depth, lay_on_dome};
 use crate::forces::damping::{Damper, Law};
 use crate::forces::delingette::{lame, TriangleSprings};
 use crate::lines::add_line;
@@ -131,9 +132,6 @@ fn add_parachute(
     rigid: Option<&RigidSection>,
 ) -> Result<(), MeshError> {
     let g = p.geometry();
-    let radius = g.skirt_radius();
-    // Lines of length L from the skirt meet on the axis this far below it.
-    let drop = (g.line_length.powi(2) - radius * radius).sqrt();
     let body = match &p.body {
         Some(name) => Some(
             rigid
@@ -144,20 +142,35 @@ fn add_parachute(
         ),
         None => None,
     };
+    // The flat canopy with its top at z = 0, and where it starts: flat, or
+    // pre-shaped on a spherical cap.
+    let mut mesh = match g.shape {
+        CanopyShape::Circular => circular_canopy(&g, p.resolution as usize, 0.0)?,
+        CanopyShape::Cross => cross_canopy(&g, p.resolution as usize, 0.0)?,
+    };
+    let mut start = mesh.points.clone();
+    // Lines of length L from the skirt meet on the axis this far below its top.
+    let drop = match p.preshaped_diameter {
+        None => (g.line_length.powi(2) - g.skirt_radius().powi(2)).sqrt(),
+        Some(d) => {
+            lay_on_dome(&mut start, g.dome_radius(d).map_err(MeshError)?);
+            confluence_depth(&start, &mesh.skirt, g.line_length)
+        }
+    };
     // Attached to a body, the canopy is placed above it; otherwise at `height`.
     let confluence = match body {
         Some(b) => b.world_point(p.body_point),
         None => [0.0, 0.0, p.height - drop],
     };
     let z = confluence[2] + drop;
-    let mut mesh = match g.shape {
-        CanopyShape::Circular => circular_canopy(&g, p.resolution as usize, z)?,
-        CanopyShape::Cross => cross_canopy(&g, p.resolution as usize, z)?,
-    };
-    for point in mesh.points.chunks_exact_mut(3) {
-        point[0] += confluence[0];
-        point[1] += confluence[1];
+    for points in [&mut mesh.points, &mut start] {
+        for point in points.chunks_exact_mut(3) {
+            point[0] += confluence[0];
+            point[1] += confluence[1];
+            point[2] += z;
+        }
     }
+    // The fabric's and seams' rest state is the flat canopy's.
     add_surface(
         m,
         mesh.points,
@@ -178,6 +191,7 @@ fn add_parachute(
             });
         }
     }
+    m.x.copy_from_slice(&start);
     m.vent = std::mem::take(&mut mesh.vent);
     m.canopy_height = z;
     let hub = add_confluence(m, p, confluence, body.is_some());

@@ -15,9 +15,9 @@ use participant::Monitor;
 /// taken for the projected diameter.
 const SECTORS: usize = 36;
 
-/// The monitors' names, `structure.parachute.<name>`; `drag` and
-/// `drag_coefficient` only where a fluid sends the canopy's pressure.
-pub const PARACHUTE_MONITORS: [&str; 9] = [
+/// The monitors' names, `structure.parachute.<name>`; those of
+/// [`AIR_MONITORS`] only where a fluid sends the canopy's pressure.
+pub const PARACHUTE_MONITORS: [&str; 10] = [
     "parachute.altitude",
     "parachute.descent_speed",
     "parachute.projected_diameter",
@@ -25,8 +25,16 @@ pub const PARACHUTE_MONITORS: [&str; 9] = [
     "parachute.tilt",
     "parachute.drag",
     "parachute.drag_coefficient",
+    "parachute.air_force_up",
     "parachute.payload_force",
     "parachute.line_tension_max",
+];
+
+/// The monitors of the air's force on the canopy.
+const AIR_MONITORS: [&str; 3] = [
+    "parachute.drag",
+    "parachute.drag_coefficient",
+    "parachute.air_force_up",
 ];
 
 /// What the monitors need to know of a parachute beyond its nodes.
@@ -37,7 +45,7 @@ pub struct ParachuteParts {
     /// The nominal area S₀ [m²].
     pub nominal_area: f64,
     /// The air's density ρ [kg/m³] for C_D0; None without a fluid, which
-    /// leaves the drag monitors out.
+    /// leaves the air's monitors out.
     pub air_density: Option<f64>,
 }
 
@@ -59,14 +67,13 @@ impl Model {
         let apex = self.vent.iter().map(|&n| point(x, n)).sum::<Vector3<f64>>()
             / self.vent.len().max(1) as f64;
         let speed = velocity.norm();
-        let drag = pressure.map_or(f64::NAN, |jump| {
-            // The air's force on the canopy against the payload's motion.
-            let force = self.canopy_force(jump);
-            match speed > 0.0 {
-                true => -force.dot(&velocity) / speed,
-                false => force.dot(&Vector3::z()),
-            }
-        });
+        // The air's force on the canopy (NaN before the first pressure),
+        // and its part against the payload's motion.
+        let force = pressure.map_or(Vector3::repeat(f64::NAN), |jump| self.canopy_force(jump));
+        let drag = match speed > 0.0 {
+            true => -force.dot(&velocity) / speed,
+            false => force.z,
+        };
         let values = [
             payload.z,
             -velocity.z,
@@ -75,12 +82,14 @@ impl Model {
             axis.z.clamp(-1.0, 1.0).acos().to_degrees(),
             drag,
             drag / (0.5 * p.air_density.unwrap_or(f64::NAN) * speed * speed * p.nominal_area),
+            force.z,
             self.payload_force(p.hub).norm(),
             self.largest_line_tension(),
         ];
         let names = PARACHUTE_MONITORS.iter();
         let monitors = names.zip(values).map(|(n, v)| Monitor::new(*n, v));
-        let aired = |m: &Monitor| p.air_density.is_some() || !m.name.contains("drag");
+        let aired =
+            |m: &Monitor| p.air_density.is_some() || !AIR_MONITORS.contains(&m.name.as_str());
         Some(monitors.filter(aired).collect())
     }
 

@@ -16,6 +16,7 @@ pub mod cross;
 pub mod damped;
 pub mod designer;
 pub mod divergence;
+pub mod dome;
 pub mod driver;
 pub mod fields;
 pub mod forces;

@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 
 pub mod canopy_in_flow;
 pub mod collision;
+mod dome;
 pub mod integrator;
 pub mod parachute;
 mod scene;

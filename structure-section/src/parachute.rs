@@ -117,9 +117,14 @@ pub struct Parachute {
     /// or for a cross, mesh cells across an arm.
     #[serde(default = "default_resolution")]
     pub resolution: u32,
-    /// Height of the flat canopy [m].
+    /// Height of the flat canopy, or of a pre-shaped one's apex [m].
     #[serde(default)]
     pub height: f64,
+    /// Start pre-shaped: the canopy laid on a spherical cap this wide
+    /// across the skirt [m], its seams at their flat lengths; flat when
+    /// left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preshaped_diameter: Option<f64>,
     pub fabric: Fabric,
     /// Extra stiffness [N/m] of the gore seams (the radial edges between gores).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -289,6 +294,11 @@ impl Parachute {
             );
         }
         c.finite(&["height"], self.height);
+        if let Some(d) = self.preshaped_diameter {
+            if let Err(msg) = self.geometry().dome_radius(d) {
+                c.problem(&["preshaped_diameter"], msg);
+            }
+        }
         self.fabric.check(c);
         if let Some(k) = self.seam_stiffness {
             c.positive(&["seam_stiffness"], k, "N/m");

@@ -79,16 +79,6 @@ fn coarse(name: &str, run: &str, end: f64, change: impl FnOnce(&mut Scenario)) -
     Monitors::read(&out)
 }
 
-/// The mean of monitor `name` over the rows from `from` to `to` [s].
-fn mean_over(m: &Monitors, name: &str, from: f64, to: f64) -> f64 {
-    let (t, v) = (m.column("time"), m.column(name));
-    let picked: Vec<f64> = (0..t.len())
-        .filter(|&i| t[i] >= from && t[i] <= to)
-        .map(|i| v[i])
-        .collect();
-    picked.iter().sum::<f64>() / picked.len() as f64
-}
-
 /// Dissertation §4.2.3: ten suspension lines 0.3 m short "lead to an angled
 /// deployment". On the coarse grid the even C-9 flies within 5° of level
 /// until about 4 s (measured 1.4° on average over 2–4 s), the uneven one
@@ -105,8 +95,8 @@ fn uneven_and_broken_lines_tilt_the_c9() {
     let uneven = coarse("c9-uneven-lines", "uneven", 4.0, |_| {});
     let broken = coarse("c9-broken-lines", "broken", 6.5, |_| {});
     let (level, angled) = (
-        mean_over(&even, tilt, 2.0, 4.0),
-        mean_over(&uneven, tilt, 2.0, 4.0),
+        even.mean_over(tilt, 2.0, 4.0),
+        uneven.mean_over(tilt, 2.0, 4.0),
     );
     assert!(
         level < 5.0 && angled > 15.0,
@@ -115,15 +105,88 @@ fn uneven_and_broken_lines_tilt_the_c9() {
     let t = even.column("time");
     let before = t.iter().position(|&t| t > 5.0).unwrap();
     assert_eq!(even.column(tilt)[..before], broken.column(tilt)[..before]);
-    let after = mean_over(&broken, tilt, 5.5, 6.5);
+    let after = broken.mean_over(tilt, 5.5, 6.5);
     let speed = "structure.parachute.descent_speed";
     let (slow, fast) = (
-        mean_over(&even, speed, 5.5, 6.5),
-        mean_over(&broken, speed, 5.5, 6.5),
+        even.mean_over(speed, 5.5, 6.5),
+        broken.mean_over(speed, 5.5, 6.5),
     );
     assert!(after > 15.0, "tilt {after}° after the break");
     assert!(
         fast > 1.2 * slow,
         "{fast} m/s on 18 lines, {slow} m/s on 28"
+    );
+}
+
+/// Dissertation §4.2.2: `scenarios/c9-wake.toml`, the C-9 on a finite
+/// rigid parachutist in the flow, all three processes running, against the
+/// same scene with the body's shape removed (a mass point of rigid-proc,
+/// outside the flow), on 1 m cells to t = 4 s. The body moving down
+/// through the air feels it push up, and Newton's second law holds for
+/// the whole parachute, both ways: weight less the air's force on canopy and body
+/// equals the total mass times the payload's acceleration, within 3 % of
+/// the weight, over the last second. The body is under one cell across,
+/// so the descent-speed difference is the under-resolved wake's (the
+/// README gives it on the shipped grid); it is printed, not asserted.
+#[test]
+fn the_parachutists_body_in_the_flow_feels_the_air_and_the_whole_obeys_newton() {
+    let (end, from) = (4.0, 3.0);
+    let wake = |run: &str, change: fn(&mut Scenario)| {
+        let dir = scratch(&format!("c9-wake-{run}"));
+        let path = variant("c9-wake", &dir, |s| {
+            s.run.end_time = end;
+            s.run.output_interval = end;
+            // 1 m cells, 2 m more below: the immersed body keeps three
+            // cells of air under it.
+            let b = s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap();
+            b.lower[2] -= 2.0;
+            b.cells = [16, 16, 38];
+            change(s);
+        });
+        let out = dir.join("run");
+        run_ok(&path, &out);
+        Monitors::read(&out)
+    };
+    let finite = wake("finite", |_| {});
+    let point = wake("point", |s| {
+        s.rigid.as_mut().unwrap().bodies[0].shape = None
+    });
+    let scenario = canopy_tests::Scenario::load(&scenario_path("c9-wake")).unwrap();
+    let p = scenario
+        .structure
+        .as_ref()
+        .unwrap()
+        .parachute
+        .as_ref()
+        .unwrap();
+    let g = p.geometry();
+    let body_mass = scenario.rigid.as_ref().unwrap().bodies[0].mass.unwrap();
+    let mass = body_mass
+        + p.fabric.areal_density * g.nominal_area()
+        + p.line_density * g.line_length * g.gores as f64;
+    let weight = -mass * scenario.rigid.as_ref().unwrap().gravity[2];
+    let lift = finite.mean_over("fluid.jumper_fluid_force_z", 1.0, end);
+    assert!(lift > 0.0, "the air pushes the falling body up: {lift} N");
+    // Weight less the air's upward force (on the canopy, and on the body
+    // where it is in the flow) against the mass times the acceleration.
+    let newton = |m: &Monitors, body_in_flow: bool| {
+        let mut air = m.mean_over("structure.parachute.air_force_up", from, end);
+        if body_in_flow {
+            air += m.mean_over("fluid.jumper_fluid_force_z", from, end);
+        }
+        let speed = |t: f64| -m.at("rigid.jumper.vz", t);
+        let accelerating = mass * (speed(end) - speed(from));
+        assert!(
+            (weight - air - accelerating).abs() < 0.03 * weight,
+            "body in the flow {body_in_flow}: weight {weight} N, air {air} N, m·a {accelerating} N"
+        );
+    };
+    newton(&finite, true);
+    newton(&point, false);
+    let descent = |m: &Monitors| m.mean_over("structure.parachute.descent_speed", from, end);
+    eprintln!(
+        "descent over {from}–{end} s: finite body {} m/s, mass point {} m/s",
+        descent(&finite),
+        descent(&point)
     );
 }

@@ -8,6 +8,9 @@ use super::{replace, Case};
 const CLOTH_1E308: &str = "[structure.cloth]\nwidth = 1.0\ndepth = 1.0\nnodes_x = 3\nnodes_y = 3\norigin = [0.0, 0.0, 0.0]\n\n[structure.cloth.fabric]\nareal_density = 1e308\nstiffness = 10.0\n\n[rigid]\n";
 
 /// The porous load of `[structure.porous]` (thesis eqs. 6–10), appended to a scenario.
+/// A C-9 on the ball, pre-shaped wider than its flat diameter, put before `[rigid]`.
+const PRESHAPED_WIDE: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\npreshaped_diameter = 9.0\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[rigid]\n";
+
 const POROUS: &str = "[structure.porous]\nfree_stream = [0.0, 0.0, 1.0]\nporosity = 0.1\ndiameter = 1e-3\nthickness = 1e-4\n";
 
 pub const CASES: &[Case] = &[
@@ -281,5 +284,12 @@ pub const CASES: &[Case] = &[
         key: Some("structure.cloth.fabric.areal_density"),
         says: "is beyond the 1e30 kg/m² canopy accepts",
         line_of: Some("areal_density = 1e308"),
+    },
+    Case {
+        name: "preshaped-wider-than-flat",
+        edit: |t| replace(t, "[rigid]\n", PRESHAPED_WIDE),
+        key: Some("structure.parachute.preshaped_diameter"),
+        says: "to under D₀ = 8.534 m (flat: leave it out)",
+        line_of: Some("preshaped_diameter = 9.0"),
     },
 ];
