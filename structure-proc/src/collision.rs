@@ -23,12 +23,16 @@ use parry3d_f64::query::{PointProjection, Ray};
 use parry3d_f64::shape::SharedShape;
 use rigid_proc::body::{Body, MOMENTUM_LEN, STATE_LEN};
 use structure_section::Collision;
+use structure_section::Motion;
 use structure_section::RigidSection;
 
 /// The bodies the structure's free nodes collide with.
 pub struct Obstacles {
     /// Every body of `[rigid]`, in order; bodies without a shape take no part.
     pub bodies: Vec<Body>,
+    /// Each body's motion in the scenario; a body held until its
+    /// `release_time` moves as a prescribed one before it.
+    motions: Vec<Motion>,
     thickness: f64,
     /// C_R of a node against each body: the body's own, else the collision default.
     restitution: Vec<f64>,
@@ -59,8 +63,9 @@ impl Obstacles {
             .iter()
             .map(|b| Body::from_spec(b).map_err(|e| format!("body `{}`: {e}", b.name)))
             .collect::<Result<Vec<Body>, String>>()?;
-        Ok(Obstacles {
+        let mut o = Obstacles {
             momenta: vec![0.0; MOMENTUM_LEN * bodies.len()],
+            motions: bodies.iter().map(|b| b.motion).collect(),
             bodies,
             thickness: spec.thickness,
             restitution: rigid
@@ -72,17 +77,29 @@ impl Obstacles {
             impulses: 0,
             received: Vector3::zeros(),
             start: Vec::new(),
-        })
+        };
+        o.hold(0.0);
+        Ok(o)
     }
 
-    /// Start an impulse sub-step with the bodies' states as the rigid solver
-    /// sends them ([`STATE_LEN`] per body); the momenta start from zero.
-    pub fn set_states(&mut self, states: &[f64]) {
+    /// Start the impulse sub-step at `time` [s] with the bodies' states as
+    /// the rigid solver sends them ([`STATE_LEN`] per body); the momenta
+    /// start from zero.
+    pub fn set_states(&mut self, states: &[f64], time: f64) {
         for (b, s) in self.bodies.iter_mut().zip(states.chunks_exact(STATE_LEN)) {
             b.read_state(s);
         }
+        self.hold(time);
         self.momenta.fill(0.0);
         self.tau = 0.0;
+    }
+
+    /// Each body's motion at `time`, as rigid-proc moves it: a held body
+    /// has no inverse mass until its release.
+    fn hold(&mut self, time: f64) {
+        for (b, &scene) in self.bodies.iter_mut().zip(&self.motions) {
+            b.motion = b.motion_at(time, scene);
+        }
     }
 
     /// Remember the positions `x` at the start of a structure step.

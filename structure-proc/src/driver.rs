@@ -425,7 +425,7 @@ impl<S: Stepper> Driven<S> {
             }
         }
         if let Some(o) = &mut self.obstacles {
-            o.set_states(&p.read_field(COLLISION_BODIES)?);
+            o.set_states(&p.read_field(COLLISION_BODIES)?, step.time);
         }
         Ok(())
     }

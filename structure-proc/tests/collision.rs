@@ -5,6 +5,7 @@
 //! body leaves through the nearest face.
 
 use nalgebra::Vector3;
+use rigid_proc::body::STATE_LEN;
 use structure_proc::collision::Obstacles;
 use structure_section::Collision;
 use structure_section::RigidSection;
@@ -145,4 +146,48 @@ fn a_node_inside_a_meshed_body_leaves_through_the_nearest_face() {
         "x = {x:?}"
     );
     assert!(v[2].abs() < 1e-15, "v = {v:?}");
+}
+
+/// A body held until its `release_time` (issue 23's start conditions) is a
+/// prescribed body to the structure's nodes too, as rigid-proc moves it:
+/// an elastic node bounces off it as off a wall (its velocity reversed,
+/// the block's unchanged); after the release the same impact shares the
+/// momentum, v' = (m − M)/(m + M)·v (a head-on elastic impact).
+#[test]
+fn a_held_body_is_a_wall_to_the_nodes_until_its_release() {
+    let scene = r#"
+        gravity = [0.0, 0.0, 0.0]
+        [[bodies]]
+        name = "block"
+        shape = { type = "cuboid", size = [0.2, 0.2, 0.2] }
+        mass = 3.0
+        position = [0.0, 0.0, 0.0]
+        release_time = 1.0
+        "#;
+    let (m, speed) = (1.0, 2.0);
+    let impact = |time: f64| {
+        let mut o = obstacles(scene, 1e-12, 1.0);
+        let mut states = vec![0.0; STATE_LEN];
+        o.bodies[0].write_state(&mut states);
+        o.set_states(&states, time);
+        let (mut x, mut v) = ([-0.5, 0.0, 0.0], [speed, 0.0, 0.0]);
+        fly(&mut o, &mut x, &mut v, 1.0 / m, 1e-3, 500);
+        assert_eq!(o.impulses, 1, "one impact at t = {time} s");
+        (v[0], o.bodies[0].state.v.x)
+    };
+    let (node, block) = impact(0.5);
+    assert!(
+        (node + speed).abs() < 1e-12 && block == 0.0,
+        "{node}, {block}"
+    );
+    let (node, block) = impact(1.5);
+    let big = 3.0;
+    assert!(
+        (node - (m - big) / (m + big) * speed).abs() < 1e-12,
+        "{node}"
+    );
+    assert!(
+        (block - 2.0 * m / (m + big) * speed).abs() < 1e-12,
+        "{block}"
+    );
 }
