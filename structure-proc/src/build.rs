@@ -9,13 +9,13 @@ use crate::forces::delingette::{lame, TriangleSprings};
 use crate::lines::add_line;
 use crate::model::{Attachment, Model, NodeKind, Spring};
 use crate::network::Network;
-use crate::parachute::circular_canopy;
+use crate::parachute::{circular_canopy, CanopyMesh};
 use crate::rectangle::{rectangle, Edge};
 use std::collections::BTreeSet;
 use structure_section::parachute::CanopyShape;
+use structure_section::{BodySpec, RigidSection, StructureSection};
 use structure_section::{Cloth, ClothHold, ClothPlane, Parachute};
 use structure_section::{Damping, Elasticity};
-use structure_section::{RigidSection, StructureSection};
 
 /// The model for `[structure]`, with structure step `dt` = Δt_s. The parachute's
 /// confluence and the strings attach to the bodies of `[rigid]`, numbered as
@@ -142,34 +142,7 @@ fn add_parachute(
         ),
         None => None,
     };
-    // The flat canopy with its top at z = 0, and where it starts: flat, or
-    // pre-shaped on a spherical cap.
-    let mut mesh = match g.shape {
-        CanopyShape::Circular => circular_canopy(&g, p.resolution as usize, 0.0)?,
-        CanopyShape::Cross => cross_canopy(&g, p.resolution as usize, 0.0)?,
-    };
-    let mut start = mesh.points.clone();
-    // Lines of length L from the skirt meet on the axis this far below its top.
-    let drop = match p.preshaped_diameter {
-        None => (g.line_length.powi(2) - g.skirt_radius().powi(2)).sqrt(),
-        Some(d) => {
-            lay_on_dome(&mut start, g.dome_radius(d).map_err(MeshError)?);
-            confluence_depth(&start, &mesh.skirt, g.line_length)
-        }
-    };
-    // Attached to a body, the canopy is placed above it; otherwise at `height`.
-    let confluence = match body {
-        Some(b) => b.world_point(p.body_point),
-        None => [0.0, 0.0, p.height - drop],
-    };
-    let z = confluence[2] + drop;
-    for points in [&mut mesh.points, &mut start] {
-        for point in points.chunks_exact_mut(3) {
-            point[0] += confluence[0];
-            point[1] += confluence[1];
-            point[2] += z;
-        }
-    }
+    let (mut mesh, start, confluence, z) = place_canopy(p, body)?;
     // The fabric's and seams' rest state is the flat canopy's.
     add_surface(
         m,
@@ -210,6 +183,44 @@ fn add_parachute(
         air_density: None,
     });
     Ok(())
+}
+
+/// The canopy of `p` placed over its confluence: the flat mesh (the fabric's
+/// rest state), where its nodes start (flat, or pre-shaped on a spherical
+/// cap), the confluence (on `body`, or below `height` so that the lines
+/// reach it) and the height of the canopy's top.
+fn place_canopy(
+    p: &Parachute,
+    body: Option<&BodySpec>,
+) -> Result<(CanopyMesh, Vec<f64>, [f64; 3], f64), MeshError> {
+    let g = p.geometry();
+    let mut mesh = match g.shape {
+        CanopyShape::Circular => circular_canopy(&g, p.resolution as usize, 0.0)?,
+        CanopyShape::Cross => cross_canopy(&g, p.resolution as usize, 0.0)?,
+    };
+    let mut start = mesh.points.clone();
+    // Lines of length L from the skirt meet on the axis this far below its top.
+    let drop = match p.preshaped_diameter {
+        None => (g.line_length.powi(2) - g.skirt_radius().powi(2)).sqrt(),
+        Some(d) => {
+            lay_on_dome(&mut start, g.dome_radius(d).map_err(MeshError)?);
+            confluence_depth(&start, &mesh.skirt, g.line_length)
+        }
+    };
+    // Attached to a body, the canopy is placed above it; otherwise at `height`.
+    let confluence = match body {
+        Some(b) => b.world_point(p.body_point),
+        None => [0.0, 0.0, p.height - drop],
+    };
+    let z = confluence[2] + drop;
+    for points in [&mut mesh.points, &mut start] {
+        for point in points.chunks_exact_mut(3) {
+            point[0] += confluence[0];
+            point[1] += confluence[1];
+            point[2] += z;
+        }
+    }
+    Ok((mesh, start, confluence, z))
 }
 
 /// The confluence node where the lines meet: attached to the body, or a

@@ -7,7 +7,7 @@ pub use parachute::{
     Cloth, ClothHold, ClothPlane, LineBreak, LineChange, Parachute, ParachuteModel,
 };
 pub use rigid_section::{
-    attachments, default_gravity, AttachmentSpec, Motion, RigidSection, STANDARD_GRAVITY,
+    attachments, default_gravity, AttachmentSpec, BodySpec, Motion, RigidSection, STANDARD_GRAVITY,
 };
 use scenario::Checker;
 use serde::{Deserialize, Serialize};
