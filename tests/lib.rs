@@ -220,6 +220,15 @@ impl Monitors {
     }
 }
 
+/// Everything of parachute `p` that falls [kg]: the `payload`, the fabric
+/// on its flat nominal area (the vent's few grams included) and the lines.
+pub fn falling_mass(p: &structure_section::Parachute, payload: f64) -> f64 {
+    let g = p.geometry();
+    payload
+        + p.fabric.areal_density * g.nominal_area()
+        + p.line_density * g.line_length * g.gores as f64
+}
+
 pub fn manifest(run: &Path) -> serde_json::Value {
     serde_json::from_str(
         &std::fs::read_to_string(run.join("manifest.json")).expect("manifest.json"),

@@ -159,11 +159,8 @@ fn the_parachutists_body_in_the_flow_feels_the_air_and_the_whole_obeys_newton() 
         .parachute
         .as_ref()
         .unwrap();
-    let g = p.geometry();
     let body_mass = scenario.rigid.as_ref().unwrap().bodies[0].mass.unwrap();
-    let mass = body_mass
-        + p.fabric.areal_density * g.nominal_area()
-        + p.line_density * g.line_length * g.gores as f64;
+    let mass = falling_mass(p, body_mass);
     let weight = -mass * scenario.rigid.as_ref().unwrap().gravity[2];
     let lift = finite.mean_over("fluid.jumper_fluid_force_z", 1.0, end);
     assert!(lift > 0.0, "the air pushes the falling body up: {lift} N");

@@ -60,10 +60,7 @@ fn descends_as_the_handbook_says(name: &str, cells: [u32; 3], book: &Handbook) {
     let p = structure.parachute.as_ref().unwrap();
     let g = p.geometry();
     let rho = s.fluid.as_ref().unwrap().density();
-    // Everything that falls: payload, fabric on its flat area, lines.
-    let mass = p.payload_mass.unwrap()
-        + p.fabric.areal_density * g.nominal_area()
-        + p.line_density * g.line_length * g.gores as f64;
+    let mass = falling_mass(p, p.payload_mass.unwrap());
     let weight = -mass * structure.gravity[2];
     let from = END - 1.0;
     let monitor = |n: &str| format!("structure.parachute.{n}");
