@@ -8,7 +8,7 @@ pub use scenario::ParticipantSpec;
 use scenario::{section, CouplingSection, Participants, RunSection};
 use serde::Serialize;
 use std::path::Path;
-use structure_section::StructureSection;
+use structure_section::{Parachute, StructureSection};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct Scenario {
@@ -37,6 +37,18 @@ impl Scenario {
             structure: section::read(path, &text, "structure")?,
             rigid: RigidSection::load(path, &text)?,
         })
+    }
+
+    /// The scene's `[structure.parachute]` (panics without one).
+    pub fn parachute(&self) -> &Parachute {
+        let s = self.structure.as_ref().expect("a [structure] section");
+        s.parachute.as_ref().expect("a [structure.parachute]")
+    }
+
+    /// The same, to change.
+    pub fn parachute_mut(&mut self) -> &mut Parachute {
+        let s = self.structure.as_mut().expect("a [structure] section");
+        s.parachute.as_mut().expect("a [structure.parachute]")
     }
 
     /// The coupling part alone, with its clock.

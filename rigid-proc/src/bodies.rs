@@ -61,9 +61,7 @@ impl Bodies {
 
     /// Each body's motion at the present time: held until its release.
     pub fn hold(&mut self) {
-        for (body, &scene) in self.bodies.iter_mut().zip(&self.motions) {
-            body.motion = body.motion_at(self.time, scene);
-        }
+        crate::body::hold(&mut self.bodies, &self.motions, self.time);
     }
 
     /// One sub-step of `h`: the impulses `impulse` (3 per attachment point,

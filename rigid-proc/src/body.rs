@@ -214,3 +214,12 @@ impl Body {
         Isometry3::from_parts(Translation3::from(own_origin), rotation)
     }
 }
+
+/// Each of `bodies` moving at `time` [s] as its scene's motion (`motions`,
+/// in order) says, or held (prescribed) until its release time: what
+/// rigid-proc steps and what the structure's nodes meet.
+pub fn hold(bodies: &mut [Body], motions: &[Motion], time: f64) {
+    for (body, &scene) in bodies.iter_mut().zip(motions) {
+        body.motion = body.motion_at(time, scene);
+    }
+}

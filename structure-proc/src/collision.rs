@@ -97,9 +97,7 @@ impl Obstacles {
     /// Each body's motion at `time`, as rigid-proc moves it: a held body
     /// has no inverse mass until its release.
     fn hold(&mut self, time: f64) {
-        for (b, &scene) in self.bodies.iter_mut().zip(&self.motions) {
-            b.motion = b.motion_at(time, scene);
-        }
+        rigid_proc::body::hold(&mut self.bodies, &self.motions, time);
     }
 
     /// Remember the positions `x` at the start of a structure step.

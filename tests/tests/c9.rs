@@ -28,7 +28,7 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
     let path = variant("c9-drop", &dir, |s| {
         s.run.end_time = 2.0;
         s.run.output_interval = 0.0;
-        change(s.structure.as_mut().unwrap().parachute.as_mut().unwrap());
+        change(s.parachute_mut());
     });
     run_ok(&path, &dir.join("run"));
     let s = canopy_tests::Scenario::load(&path).unwrap();
@@ -146,7 +146,7 @@ fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
         let m = build_model(section, None, 1e-4).unwrap();
         let (_, hub) = m.points.iter().find(|(n, _)| n == "confluence").unwrap();
         let start = [m.x[3 * hub], m.x[3 * hub + 1], m.x[3 * hub + 2]];
-        let p = s.structure.as_mut().unwrap().parachute.as_mut().unwrap();
+        let p = s.parachute_mut();
         p.payload_mass = None;
         p.body = Some("payload".into());
         s.rigid = Some(RigidSection {
@@ -187,7 +187,7 @@ fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
 #[test]
 fn a_held_payload_moves_at_the_release_velocity_until_it_lets_go() {
     held_until_released("c9-drop", "structure.confluence", |s| {
-        let p = s.structure.as_mut().unwrap().parachute.as_mut().unwrap();
+        let p = s.parachute_mut();
         p.velocity = Some([0.0, 0.0, -5.0]);
         p.release_time = Some(0.1);
     });
@@ -214,13 +214,7 @@ fn held_until_released(name: &str, payload: &str, hold: impl FnOnce(&mut Scenari
     let path = variant(name, &dir, |s| {
         s.run.end_time = 0.2;
         s.run.output_interval = 0.0;
-        s.structure
-            .as_mut()
-            .unwrap()
-            .parachute
-            .as_mut()
-            .unwrap()
-            .resolution = 4;
+        s.parachute_mut().resolution = 4;
         hold(s);
     });
     run_ok(&path, &dir.join("run"));

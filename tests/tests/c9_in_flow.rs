@@ -89,7 +89,7 @@ fn coarse(name: &str, run: &str, end: f64, change: impl FnOnce(&mut Scenario)) -
 fn uneven_and_broken_lines_tilt_the_c9() {
     let tilt = "structure.parachute.tilt";
     let even = coarse("c9-uneven-lines", "even", 6.5, |s| {
-        let p = s.structure.as_mut().unwrap().parachute.as_mut().unwrap();
+        let p = s.parachute_mut();
         p.line_changes.clear();
     });
     let uneven = coarse("c9-uneven-lines", "uneven", 4.0, |_| {});
@@ -152,13 +152,7 @@ fn the_parachutists_body_in_the_flow_feels_the_air_and_the_whole_obeys_newton() 
         s.rigid.as_mut().unwrap().bodies[0].shape = None
     });
     let scenario = canopy_tests::Scenario::load(&scenario_path("c9-wake")).unwrap();
-    let p = scenario
-        .structure
-        .as_ref()
-        .unwrap()
-        .parachute
-        .as_ref()
-        .unwrap();
+    let p = scenario.parachute();
     let body_mass = scenario.rigid.as_ref().unwrap().bodies[0].mass.unwrap();
     let mass = falling_mass(p, body_mass);
     let weight = -mass * scenario.rigid.as_ref().unwrap().gravity[2];

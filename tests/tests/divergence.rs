@@ -103,13 +103,7 @@ fn the_step_limit_with_damping_holds_on_the_t10_and_intruder_drops() {
                 s.run.end_time = 0.3;
                 s.run.output_interval = 0.0;
                 s.coupling.structure_substeps = n_s;
-                s.structure
-                    .as_mut()
-                    .unwrap()
-                    .parachute
-                    .as_mut()
-                    .unwrap()
-                    .model = model;
+                s.parachute_mut().model = model;
             })
         };
         let o = coupler(&["check", with(10).to_str().unwrap()]);

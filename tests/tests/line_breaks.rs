@@ -13,7 +13,7 @@ fn half_the_lines_break_on_time_and_the_payload_swings_away() {
     let path = variant("c9-drop", &dir, |s| {
         s.run.end_time = 0.5;
         s.run.output_interval = 0.0;
-        let p = s.structure.as_mut().unwrap().parachute.as_mut().unwrap();
+        let p = s.parachute_mut();
         p.line_breaks.push(LineBreak {
             lines: (0..14).collect(),
             time: Some(0.1),

@@ -57,7 +57,7 @@ fn descends_as_the_handbook_says(name: &str, cells: [u32; 3], book: &Handbook) {
     let m = Monitors::read(&out);
     let s = shipped.unwrap();
     let structure = s.structure.as_ref().unwrap();
-    let p = structure.parachute.as_ref().unwrap();
+    let p = s.parachute();
     let g = p.geometry();
     let rho = s.fluid.as_ref().unwrap().density();
     let mass = falling_mass(p, p.payload_mass.unwrap());
