@@ -7,7 +7,7 @@
 //! participant library.
 
 use crate::checkpoint::Checkpoint;
-use crate::collision::Obstacles;
+use crate::collision::{Contacts, Obstacles, Stats};
 use crate::divergence::Watch;
 use crate::fields::*;
 use crate::forces::Loads;
@@ -108,6 +108,7 @@ fn monitors(
     m: &Model,
     omega_max: Option<f64>,
     obstacles: Option<&Obstacles>,
+    contacts: Option<&Stats>,
     pressure: Option<&[f64]>,
 ) -> Vec<Monitor> {
     let p = m.momentum();
@@ -126,6 +127,20 @@ fn monitors(
                 o.received[c],
             ));
         }
+    }
+    if let Some(s) = contacts {
+        v.push(Monitor::new(
+            "contact.proximity_impulses",
+            s.proximity as f64,
+        ));
+        v.push(Monitor::new(
+            "contact.collision_impulses",
+            s.collisions as f64,
+        ));
+        v.push(Monitor::new(
+            "contact.impact_zone_steps",
+            s.zone_steps as f64,
+        ));
     }
     if let Some(w) = omega_max {
         v.push(Monitor::new(OMEGA_MAX_MONITOR, w));
@@ -219,18 +234,24 @@ pub fn run<S: Stepper>(
         (Some(spec), Some(rigid)) => Some(Obstacles::new(rigid, spec)?),
         _ => None,
     };
+    let contacts = section
+        .collision
+        .as_ref()
+        .and_then(|spec| Contacts::new(&m.net, spec));
     let watch = Watch::new(&m, &scene);
     let stepper = make(section, &m)?;
     let omega_max = stepper
         .is_scenario_integrator()
         .then(|| omega_max(&m.inv_mass, &m.couplings));
-    let first = monitors(&m, omega_max, obstacles.as_ref(), None);
+    let stats = contacts.as_ref().map(|c| &c.stats);
+    let first = monitors(&m, omega_max, obstacles.as_ref(), stats, None);
     let n_s = scene.scenario.coupling.structure_substeps;
     let mut p = joining.declare(declaration(&m, obstacles.as_ref(), &first, n_s))?;
     let mut d = Driven {
         output: Output::new(p.run_dir(), &m),
         m,
         obstacles,
+        contacts,
         watch,
         stepper,
         omega_max,
@@ -252,6 +273,8 @@ pub fn run<S: Stepper>(
 struct Driven<S> {
     m: Model,
     obstacles: Option<Obstacles>,
+    /// The fabric's and strings' self-contact pass.
+    contacts: Option<Contacts>,
     watch: Watch,
     stepper: S,
     omega_max: Option<f64>,
@@ -273,6 +296,8 @@ struct RunState {
     checkpoint: Checkpoint,
     watch: Watch,
     collisions: Option<(u64, [f64; 3])>,
+    #[serde(default)]
+    contacts: Option<Stats>,
     outputs: [Option<Vec<(f64, String)>>; 2],
     substeps: u64,
 }
@@ -284,12 +309,20 @@ struct Saved {
     checkpoint: Checkpoint,
     watch: Watch,
     collisions: Option<(u64, Vector3<f64>)>,
+    contacts: Option<Stats>,
 }
 
 impl<S: Stepper> Driven<S> {
     fn monitors(&self) -> Vec<Monitor> {
         let pressure = self.pressure.as_deref();
-        monitors(&self.m, self.omega_max, self.obstacles.as_ref(), pressure)
+        let stats = self.contacts.as_ref().map(|c| &c.stats);
+        monitors(
+            &self.m,
+            self.omega_max,
+            self.obstacles.as_ref(),
+            stats,
+            pressure,
+        )
     }
 
     /// The schedule, to its end.
@@ -333,11 +366,13 @@ impl<S: Stepper> Driven<S> {
             checkpoint: Checkpoint::default(),
             watch: self.watch.clone(),
             collisions: None,
+            contacts: None,
         });
         self.m.save(&mut saved.checkpoint);
         self.stepper.save_history(&mut saved.checkpoint.history);
         saved.watch.clone_from(&self.watch);
         saved.collisions = self.obstacles.as_ref().map(|o| (o.impulses, o.received));
+        saved.contacts = self.contacts.as_ref().map(|c| c.stats);
         self.window_start.first = true;
     }
 
@@ -349,6 +384,11 @@ impl<S: Stepper> Driven<S> {
         if let (Some(o), Some((impulses, received))) = (&mut self.obstacles, saved.collisions) {
             o.impulses = impulses;
             o.received = received;
+        }
+        if let (Some(c), Some(stats)) = (&mut self.contacts, saved.contacts) {
+            c.stats = stats;
+            // A line broken since the checkpoint is whole again.
+            c.sync(&self.m.net);
         }
         // The window's pressure comes again with its next try.
         self.pressure_window = None;
@@ -365,6 +405,7 @@ impl<S: Stepper> Driven<S> {
             checkpoint: saved.checkpoint.clone(),
             watch: saved.watch.clone(),
             collisions: saved.collisions.map(|(n, p)| (n, p.into())),
+            contacts: saved.contacts,
             outputs: self.output.entries(),
             substeps: self.substeps,
         }
@@ -377,6 +418,7 @@ impl<S: Stepper> Driven<S> {
             checkpoint: state.checkpoint,
             watch: state.watch,
             collisions: state.collisions.map(|(n, p)| (n, p.into())),
+            contacts: state.contacts,
         });
         self.restore();
         self.window_start.first = false;
@@ -446,6 +488,9 @@ impl<S: Stepper> Driven<S> {
             if let Some(o) = &mut self.obstacles {
                 o.begin_step(&m.x);
             }
+            if let Some(c) = &mut self.contacts {
+                c.begin_step(&m.x);
+            }
             if let Err(e) = self.stepper.step(m, &loads, h) {
                 let t = step.time + k as f64 * h;
                 return Some(format!(
@@ -453,12 +498,22 @@ impl<S: Stepper> Driven<S> {
                     self.stepper.name()
                 ));
             }
+            let t = step.time + (k + 1) as f64 * h;
+            if let Some(c) = &mut self.contacts {
+                if let Err(e) = c.resolve(&mut m.x, &mut m.v, &m.net.mass, &m.net.inv_mass, h) {
+                    return Some(format!("the collision pass failed at t = {t:.6e} s: {e}"));
+                }
+            }
             if let Some(o) = &mut self.obstacles {
                 o.resolve(&mut m.x, &mut m.v, &m.net.inv_mass, h);
             }
             time += h;
-            for event in m.break_lines(time) {
+            let breaks = m.break_lines(time);
+            for event in &breaks {
                 eprintln!("{event}");
+            }
+            if let (Some(c), false) = (&mut self.contacts, breaks.is_empty()) {
+                c.sync(&m.net);
             }
             if let Some(event) = m.release(time) {
                 eprintln!("{event}");

@@ -15,6 +15,7 @@ fn obstacles(scene: &str, thickness: f64, restitution: f64) -> Obstacles {
     let spec = Collision {
         thickness,
         restitution,
+        ..Collision::default()
     };
     Obstacles::new(&section, &spec).unwrap()
 }

@@ -1,6 +1,7 @@
-//! `[structure.collision]`: structure nodes against the rigid bodies' shapes
-//! (dissertation §2.5, §3.4: the point-against-body tests of the collision
-//! module, with the body as one impact zone).
+//! `[structure.collision]`: the structure's collision pass (dissertation
+//! §2.5, §3.4): the fabric and strings against themselves and each other
+//! (proximity, continuous detection, impact zones), and free nodes against
+//! the rigid bodies' shapes, each body one impact zone.
 
 use rigid_section::{check_restitution, RigidSection};
 use scenario::Checker;
@@ -23,6 +24,34 @@ pub struct Collision {
     /// without bouncing.
     #[serde(default)]
     pub restitution: f64,
+    /// Whether the fabric and strings collide with themselves and each
+    /// other (self-contact, fabric–string, string–string).
+    #[serde(default = "yes")]
+    pub self_contact: bool,
+    /// Coulomb's μ between structure features in contact (dissertation
+    /// §2.5: "apply impulse and friction"); 0, the default, is frictionless.
+    #[serde(default)]
+    pub friction: f64,
+    /// k of the repulsion impulse, eq. 3.30 [N/m]; by default the mean
+    /// stiffness of the structure's springs and membrane edges.
+    #[serde(default)]
+    pub repulsion_stiffness: Option<f64>,
+}
+
+impl Default for Collision {
+    fn default() -> Collision {
+        Collision {
+            thickness: DEFAULT_THICKNESS,
+            restitution: 0.0,
+            self_contact: true,
+            friction: 0.0,
+            repulsion_stiffness: None,
+        }
+    }
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn default_thickness() -> f64 {
@@ -34,11 +63,15 @@ impl Collision {
         c.within("collision", None, |c| {
             c.positive(&["thickness"], self.thickness, "m");
             check_restitution(c, self.restitution);
+            c.finite_nonneg(&["friction"], self.friction);
+            if let Some(k) = self.repulsion_stiffness {
+                c.finite_nonneg(&["repulsion_stiffness"], k);
+            }
             let shaped = rigid.is_some_and(|r| r.bodies.iter().any(|b| b.shape.is_some()));
-            if !shaped {
+            if !shaped && !self.self_contact {
                 c.problem(
-                    &[],
-                    "collides structure nodes with rigid bodies, but no [[rigid.bodies]] entry has a shape"
+                    &["self_contact"],
+                    "is false and no [[rigid.bodies]] entry has a shape: nothing would collide"
                         .into(),
                 );
             }

@@ -174,11 +174,18 @@ pub const CASES: &[Case] = &[
         line_of: Some("tolerance = 0.0"),
     },
     Case {
-        name: "collision-without-a-shaped-body",
-        edit: |t| format!("{t}\n[structure.collision]\nthickness = 1e-3\n"),
-        key: Some("structure.collision"),
+        name: "collision-with-nothing-to-collide",
+        edit: |t| format!("{t}\n[structure.collision]\nself_contact = false\n"),
+        key: Some("structure.collision.self_contact"),
         says: "no [[rigid.bodies]] entry has a shape",
-        line_of: Some("[structure.collision]"),
+        line_of: Some("self_contact = false"),
+    },
+    Case {
+        name: "collision-friction-negative",
+        edit: |t| format!("{t}\n[structure.collision]\nfriction = -0.3\n"),
+        key: Some("structure.collision.friction"),
+        says: "must be",
+        line_of: Some("friction = -0.3"),
     },
     Case {
         name: "collision-thickness-negative",

@@ -1,0 +1,111 @@
+//! Impulses on a pair of features (the dissertation eqs. 3.28–3.30, after
+//! Bridson, Fedkiw & Anderson 2002, §7).
+//!
+//! Everything is in displacements over the step, dx = v_ave·Δt, so that an
+//! impulse J on the pair changes its relative displacement Σ wᵢ dxᵢ by
+//! J·Δt·Σ wᵢ²/mᵢ. Node i moves by wᵢ·(J·Δt)/mᵢ: Σ mᵢ·Δdxᵢ = J·Δt·Σ wᵢ = 0,
+//! so every impulse keeps the momentum of the nodes it acts on. For two
+//! points (w = [1, −1]) the inelastic impulse is eq. 3.28's
+//! m₁m₂vₙ/(m₁ + m₂).
+
+use super::geometry::{Closest, Stencil, V3};
+
+/// The pair's relative displacement Σ wᵢ dxᵢ over the step.
+pub fn relative(st: &Stencil, w: &[f64; 4], dx: &[f64]) -> V3 {
+    (0..4)
+        .map(|i| {
+            let n = st.nodes[i];
+            V3::new(dx[3 * n], dx[3 * n + 1], dx[3 * n + 2]) * w[i]
+        })
+        .sum()
+}
+
+/// Σ wᵢ²/mᵢ: 1 / the pair's effective mass; 0 when no node can move.
+pub fn inverse_mass(st: &Stencil, w: &[f64; 4], inv_mass: &[f64]) -> f64 {
+    (0..4).map(|i| w[i] * w[i] * inv_mass[st.nodes[i]]).sum()
+}
+
+/// Change the pair's relative displacement by `change`, sharing it by the
+/// weights and inverse masses; `k` is [`inverse_mass`].
+pub fn apply(st: &Stencil, w: &[f64; 4], inv_mass: &[f64], k: f64, change: V3, dx: &mut [f64]) {
+    for (&n, &wi) in st.nodes.iter().zip(w) {
+        let share = change * (wi * inv_mass[n] / k);
+        for c in 0..3 {
+            dx[3 * n + c] += share[c];
+        }
+    }
+}
+
+/// What the proximity pass needs of the scene.
+#[derive(Debug, Clone, Copy)]
+pub struct Repulsion {
+    /// The layer kept between features [m].
+    pub thickness: f64,
+    /// k of eq. 3.30 [N/m].
+    pub stiffness: f64,
+    /// Coulomb's μ.
+    pub friction: f64,
+    /// The step Δt [s].
+    pub dt: f64,
+}
+
+impl Repulsion {
+    /// The proximity impulse on a pair closer than the layer at the step's
+    /// start (`near`, with its separation there): an inelastic part that
+    /// stops the approach, the repulsion of eq. 3.30,
+    /// I = min(Δt·k·d, m(0.1·d/Δt − vₙ)) for the overlap d, and Coulomb
+    /// friction on the tangential motion, at most μ times the normal
+    /// change (Bridson et al. 2002, §7.2). Returns true if it acted.
+    pub fn act(&self, st: &Stencil, near: &Closest, inv_mass: &[f64], dx: &mut [f64]) -> bool {
+        let k = inverse_mass(st, &near.w, inv_mass);
+        if k == 0.0 {
+            return false;
+        }
+        let rel = relative(st, &near.w, dx);
+        let distance = near.distance();
+        let n = match near.separation.try_normalize(1e-300) {
+            Some(n) if distance > 1e-12 * self.thickness => n,
+            // Touching: the normal that opposes the approach.
+            _ => match rel.try_normalize(1e-300) {
+                Some(r) => -r,
+                None => return false,
+            },
+        };
+        let d = self.thickness - distance;
+        let dn = rel.dot(&n);
+        let inelastic = (-dn).max(0.0);
+        let after = dn + inelastic;
+        // Eq. 3.30 in displacements: Δt·I/m = min(Δt²·k·d/m, 0.1·d − Δt·vₙ).
+        let elastic = if after < 0.1 * d {
+            (self.dt * self.dt * self.stiffness * d * k).min(0.1 * d - after)
+        } else {
+            0.0
+        };
+        let normal = inelastic + elastic;
+        if normal <= 0.0 {
+            return false;
+        }
+        let tangential = rel - n * dn;
+        let slip = tangential.norm();
+        let friction = if slip > 0.0 {
+            tangential * (-(self.friction * normal).min(slip) / slip)
+        } else {
+            V3::zeros()
+        };
+        apply(st, &near.w, inv_mass, k, n * normal + friction, dx);
+        true
+    }
+}
+
+/// The inelastic collision impulse (eq. 3.28 for the pair's weights): the
+/// pair's approach along `n` over the step is stopped. Returns true if it
+/// acted.
+pub fn stop(st: &Stencil, w: &[f64; 4], n: &V3, inv_mass: &[f64], dx: &mut [f64]) -> bool {
+    let k = inverse_mass(st, w, inv_mass);
+    let dn = relative(st, w, dx).dot(n);
+    if k == 0.0 || dn >= 0.0 {
+        return false;
+    }
+    apply(st, w, inv_mass, k, n * -dn, dx);
+    true
+}

@@ -1,0 +1,348 @@
+//! The broad phase: a bounding-volume hierarchy (AABB tree) over the
+//! fabric's triangles and the strings' segments, with a normal cone on each
+//! node for self-collision culling.
+//!
+//! Each leaf's box holds its primitive at the step's start and end (a swept
+//! box), grown by half the proximity layer, so every pair closer than the
+//! layer at the start or meeting during the step shares a box overlap. The
+//! tree is built top-down by median splits once, refitted every step, and
+//! rebuilt when refitting has let its boxes grow to twice their summed area
+//! at the last build.
+//!
+//! A fabric region that is one connected piece and whose normals, at the
+//! start and end of the step, all lie within a cone of half-angle under
+//! π/2 cannot meet itself (Volino & Magnenat-Thalmann 1994; Provot 1997, the
+//! curvature criterion, without the contour test): its self-test is
+//! skipped, so a flat or gently curved cloth costs a refit and no pair
+//! tests. parry's BVH has no per-node data for such cones, hence a tree of
+//! our own; its layout is flat arrays, children after their parent.
+
+use super::geometry::V3;
+use super::surface::Surface;
+use rayon::prelude::*;
+
+/// Subtrees with more leaves than this split their work between two threads.
+const PARALLEL_LEAVES: usize = 4096;
+
+/// A box grown to this many times its summed area at the last build asks for a rebuild.
+const REBUILD_GROWTH: f64 = 2.0;
+
+#[derive(Debug, Clone, Copy)]
+enum Node {
+    Leaf(usize),
+    Inner(usize, usize),
+}
+
+/// The cone holding a region's unit normals: its axis and the cosine and
+/// sine of its half-angle. Only cones narrower than a hemisphere matter
+/// (half-angle under π/2); a wider one, or none known (strings, flipped
+/// normals), is [`NO_CONE`]. Angles add through their cosines and sines,
+/// so no inverse cosine is taken.
+#[derive(Debug, Clone, Copy)]
+struct Cone {
+    axis: V3,
+    cos: f64,
+    sin: f64,
+}
+
+const NO_CONE: Cone = Cone {
+    axis: V3::new(0.0, 0.0, 1.0),
+    cos: -1.0,
+    sin: 0.0,
+};
+
+impl Cone {
+    fn is_narrow(&self) -> bool {
+        self.cos > 0.0
+    }
+
+    /// The cone of half-angle θ/2 around `axis`, θ having cosine `cos_theta`.
+    fn halving(axis: V3, cos_theta: f64) -> Cone {
+        let c = cos_theta.clamp(-1.0, 1.0);
+        Cone {
+            axis,
+            cos: (0.5 * (1.0 + c)).sqrt(),
+            sin: (0.5 * (1.0 - c)).sqrt(),
+        }
+    }
+
+    /// A cone around the mean axis holding both; [`NO_CONE`] once it is a
+    /// hemisphere or wider.
+    fn merge(&self, other: &Cone) -> Cone {
+        if !self.is_narrow() || !other.is_narrow() {
+            return NO_CONE;
+        }
+        let Some(axis) = (self.axis + other.axis).try_normalize(1e-12) else {
+            return NO_CONE;
+        };
+        // cos and sin of (angle from the axis to c's axis + c's half-angle):
+        // under π/2 exactly when the cosine is positive, the sum being
+        // under 3π/2.
+        let reach = |c: &Cone| {
+            let (ct, st) = (axis.dot(&c.axis), axis.cross(&c.axis).norm());
+            (ct * c.cos - st * c.sin, st * c.cos + ct * c.sin)
+        };
+        let (a, b) = (reach(self), reach(other));
+        let (cos, sin) = if a.0 < b.0 { a } else { b };
+        if cos <= 0.0 {
+            return NO_CONE;
+        }
+        Cone { axis, cos, sin }
+    }
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct Tree {
+    /// Node 0 is the root; an inner node's children come after it.
+    nodes: Vec<Node>,
+    /// Leaves under each node.
+    leaves: Vec<usize>,
+    /// Whether a node's primitives are triangles that form one connected
+    /// piece through shared nodes.
+    connected: Vec<bool>,
+    lo: Vec<V3>,
+    hi: Vec<V3>,
+    cone: Vec<Cone>,
+    /// The boxes' summed surface area right after the last build.
+    built_area: f64,
+    /// Builds so far (the first and every rebuild).
+    pub builds: u64,
+}
+
+impl Tree {
+    /// Fit the boxes and cones to the step from `x` to `x + dx`, with the
+    /// proximity `layer` [m]; build the tree first if it has none yet or it
+    /// has degraded.
+    pub fn refit(&mut self, s: &Surface, x: &[f64], dx: &[f64], layer: f64) {
+        let leaf = |p: usize| {
+            (
+                swept_box(s.vertices(p), x, dx, 0.5 * layer),
+                leaf_cone(s, p, x, dx),
+            )
+        };
+        let (boxes, cones): (Vec<(V3, V3)>, Vec<Cone>) = if s.len() < super::PARALLEL_ITEMS {
+            (0..s.len()).map(leaf).unzip()
+        } else {
+            (0..s.len()).into_par_iter().map(leaf).unzip()
+        };
+        if s.is_empty() {
+            return;
+        }
+        let degraded = |t: &mut Tree| t.fit(&boxes, &cones) > REBUILD_GROWTH * t.built_area;
+        if self.nodes.is_empty() || degraded(self) {
+            self.build(s, &boxes);
+            self.built_area = self.fit(&boxes, &cones);
+        }
+    }
+
+    /// Boxes and cones from the leaves up; returns the summed box area.
+    fn fit(&mut self, boxes: &[(V3, V3)], cones: &[Cone]) -> f64 {
+        let mut area = 0.0;
+        for n in (0..self.nodes.len()).rev() {
+            let (lo, hi, cone) = match self.nodes[n] {
+                Node::Leaf(p) => (boxes[p].0, boxes[p].1, cones[p]),
+                Node::Inner(l, r) => (
+                    self.lo[l].inf(&self.lo[r]),
+                    self.hi[l].sup(&self.hi[r]),
+                    self.cone[l].merge(&self.cone[r]),
+                ),
+            };
+            let e = hi - lo;
+            area += 2.0 * (e.x * e.y + e.y * e.z + e.z * e.x);
+            (self.lo[n], self.hi[n], self.cone[n]) = (lo, hi, cone);
+        }
+        area
+    }
+
+    /// Build top-down by median splits of the boxes' centres along their
+    /// widest spread.
+    fn build(&mut self, s: &Surface, boxes: &[(V3, V3)]) {
+        let n = 2 * s.len().max(1) - 1;
+        self.nodes = Vec::with_capacity(n);
+        self.leaves = Vec::with_capacity(n);
+        self.connected = Vec::with_capacity(n);
+        let mut prims: Vec<usize> = (0..s.len()).collect();
+        if !prims.is_empty() {
+            self.split(s, boxes, &mut prims);
+        }
+        let m = self.nodes.len();
+        self.lo = vec![V3::zeros(); m];
+        self.hi = vec![V3::zeros(); m];
+        self.cone = vec![NO_CONE; m];
+        self.builds += 1;
+    }
+
+    /// Add the subtree over `prims`.
+    fn split(&mut self, s: &Surface, boxes: &[(V3, V3)], prims: &mut [usize]) {
+        let me = self.nodes.len();
+        self.leaves.push(prims.len());
+        self.connected.push(is_connected(s, prims));
+        if let [p] = prims {
+            self.nodes.push(Node::Leaf(*p));
+            return;
+        }
+        self.nodes.push(Node::Leaf(usize::MAX));
+        let centre = |p: usize| boxes[p].0 + boxes[p].1;
+        let (lo, hi) = prims.iter().fold(
+            (V3::repeat(f64::INFINITY), V3::repeat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.inf(&centre(p)), hi.sup(&centre(p))),
+        );
+        let axis = (hi - lo).imax();
+        let mid = prims.len() / 2;
+        prims.select_nth_unstable_by(mid, |&a, &b| {
+            centre(a)[axis].total_cmp(&centre(b)[axis]).then(a.cmp(&b))
+        });
+        let (left, right) = prims.split_at_mut(mid);
+        let l = self.nodes.len();
+        self.split(s, boxes, left);
+        let r = self.nodes.len();
+        self.split(s, boxes, right);
+        self.nodes[me] = Node::Inner(l, r);
+    }
+
+    /// Every pair of primitives whose boxes overlap, but for those inside a
+    /// region that cannot meet itself; each pair (p, q) once, p < q, in an
+    /// order that does not depend on the thread count.
+    pub fn pairs(&self) -> Vec<(usize, usize)> {
+        if self.nodes.is_empty() {
+            return Vec::new();
+        }
+        self.self_pairs(0)
+    }
+
+    /// Whether node n's region cannot meet itself.
+    fn smooth(&self, n: usize) -> bool {
+        self.connected[n] && self.cone[n].is_narrow()
+    }
+
+    fn self_pairs(&self, n: usize) -> Vec<(usize, usize)> {
+        let Node::Inner(l, r) = self.nodes[n] else {
+            return Vec::new();
+        };
+        if self.smooth(n) {
+            return Vec::new();
+        }
+        let both = || {
+            let mut out = Vec::new();
+            self.cross(l, r, &mut out);
+            out
+        };
+        let (mut out, (a, b)) = if self.leaves[n] > PARALLEL_LEAVES {
+            rayon::join(both, || {
+                rayon::join(|| self.self_pairs(l), || self.self_pairs(r))
+            })
+        } else {
+            (both(), (self.self_pairs(l), self.self_pairs(r)))
+        };
+        out.extend(a);
+        out.extend(b);
+        out
+    }
+
+    /// The overlapping leaf pairs between subtrees a and b.
+    fn cross(&self, a: usize, b: usize, out: &mut Vec<(usize, usize)>) {
+        let overlap =
+            (0..3).all(|c| self.lo[a][c] <= self.hi[b][c] && self.lo[b][c] <= self.hi[a][c]);
+        if !overlap {
+            return;
+        }
+        match (self.nodes[a], self.nodes[b]) {
+            (Node::Leaf(p), Node::Leaf(q)) => out.push((p.min(q), p.max(q))),
+            (Node::Inner(l, r), Node::Leaf(_)) => {
+                self.cross(l, b, out);
+                self.cross(r, b, out);
+            }
+            (Node::Leaf(_), Node::Inner(l, r)) => {
+                self.cross(a, l, out);
+                self.cross(a, r, out);
+            }
+            (Node::Inner(al, ar), Node::Inner(bl, br)) => {
+                if self.leaves[a] >= self.leaves[b] {
+                    self.cross(al, b, out);
+                    self.cross(ar, b, out);
+                } else {
+                    self.cross(a, bl, out);
+                    self.cross(a, br, out);
+                }
+            }
+        }
+    }
+}
+
+/// The box of `nodes` at `x` and at `x + dx`, grown by `grow`.
+pub(super) fn swept_box(nodes: &[usize], x: &[f64], dx: &[f64], grow: f64) -> (V3, V3) {
+    let mut lo = V3::repeat(f64::INFINITY);
+    let mut hi = V3::repeat(f64::NEG_INFINITY);
+    for &n in nodes {
+        for c in 0..3 {
+            let (a, b) = (x[3 * n + c], x[3 * n + c] + dx[3 * n + c]);
+            lo[c] = lo[c].min(a.min(b));
+            hi[c] = hi[c].max(a.max(b));
+        }
+    }
+    (lo.add_scalar(-grow), hi.add_scalar(grow))
+}
+
+/// A triangle's normals at the step's start and end as a cone; none for a segment.
+fn leaf_cone(s: &Surface, p: usize, x: &[f64], dx: &[f64]) -> Cone {
+    if !s.is_triangle(p) {
+        return NO_CONE;
+    }
+    let normal = |scale: f64| {
+        let q = s.nodes[p].map(|n| {
+            V3::new(
+                x[3 * n] + scale * dx[3 * n],
+                x[3 * n + 1] + scale * dx[3 * n + 1],
+                x[3 * n + 2] + scale * dx[3 * n + 2],
+            )
+        });
+        (q[1] - q[0]).cross(&(q[2] - q[0])).try_normalize(0.0)
+    };
+    let (Some(n0), Some(n1)) = (normal(0.0), normal(1.0)) else {
+        return NO_CONE;
+    };
+    let Some(axis) = (n0 + n1).try_normalize(1e-12) else {
+        return NO_CONE;
+    };
+    Cone::halving(axis, n0.dot(&n1))
+}
+
+/// Whether `prims` are triangles forming one piece through shared nodes.
+fn is_connected(s: &Surface, prims: &[usize]) -> bool {
+    if prims.iter().any(|&p| !s.is_triangle(p)) {
+        return false;
+    }
+    let mut zones = super::zones::Zones::new(prims.len());
+    let mut first = std::collections::HashMap::with_capacity(2 * prims.len());
+    for (k, &p) in prims.iter().enumerate() {
+        for &n in s.vertices(p) {
+            let other = *first.entry(n).or_insert(k);
+            zones.join(k, other);
+        }
+    }
+    let root = zones.root(0);
+    (0..prims.len()).all(|k| zones.root(k) == root)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::network::Network;
+
+    #[test]
+    fn a_flat_sheet_needs_no_pair_test() {
+        let m = crate::rectangle::rectangle(1.0, 1.0, 11, 11, [0.0; 3]);
+        let n = m.points.len() / 3;
+        let net = Network {
+            mass: vec![1.0; n],
+            triangles: m.triangles.clone(),
+            canopy_nodes: n,
+            ..Network::default()
+        };
+        let s = Surface::of(&net);
+        let mut t = Tree::default();
+        let dx = vec![0.0; m.points.len()];
+        t.refit(&s, &m.points, &dx, 1e-3);
+        assert!(t.pairs().is_empty(), "{} pairs", t.pairs().len());
+    }
+}
