@@ -9,27 +9,15 @@
 //!   backward-Euler step of the scene's window against the velocity-Verlet
 //!   sub-steps that cover the same window at the explicit stability limit.
 
+mod common;
+
+use common::cloth_section;
 use criterion::{
     black_box, criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput,
 };
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator, Model};
-use structure_section::{Damping, Integrator as Scheme, StructureSection};
-
-/// The cloth of `scenarios/cloth-hanging.toml` on n × n nodes.
-fn cloth_section(n: u32) -> (StructureSection, f64) {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../scenarios/cloth-hanging.toml"
-    );
-    let s = structure_section::Scene::load_file(std::path::Path::new(path), "structure-proc")
-        .expect("shipped scenario");
-    let mut section = s.structure;
-    let cloth = section.cloth.as_mut().expect("cloth");
-    cloth.nodes_x = n;
-    cloth.nodes_y = n;
-    (section, s.scenario.coupling.window)
-}
+use structure_section::{Damping, Integrator as Scheme};
 
 /// The cloth with uniform springs on its edges plus bending springs, undamped.
 fn spring_cloth(n: u32) -> Model {

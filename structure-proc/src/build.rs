@@ -64,7 +64,20 @@ pub fn build_model(
     if let Some(c) = &s.cloth {
         add_cloth(&mut m, c)?;
     }
+    if let Some(d) = &s.disk {
+        let mesh = crate::sheets::disk_mesh(d)?;
+        add_sheet(
+            &mut m,
+            mesh.points,
+            mesh.triangles,
+            &d.fabric,
+            d.bending_stiffness,
+        )?;
+    }
     add_network(&mut m, s)?;
+    for c in &s.cords {
+        crate::sheets::add_cords(&mut m, c);
+    }
     for st in &s.strings {
         // A massless string: fixed anchor node and a node attached to the body.
         let anchor = m.nodes();
@@ -307,9 +320,24 @@ fn add_cloth(m: &mut Model, c: &Cloth) -> Result<(), MeshError> {
         })
         .collect();
     let triangles = std::mem::take(&mut mesh.triangles);
-    if let Some(k) = c.bending_stiffness {
+    add_sheet(m, mesh.points, triangles, &c.fabric, c.bending_stiffness)?;
+    hold(m, &held);
+    Ok(())
+}
+
+/// A free cloth at `points` with its `triangles` and fabric, and optional
+/// bending springs between the far vertices of adjacent triangles (the
+/// dissertation, end of §2.3).
+fn add_sheet(
+    m: &mut Model,
+    points: Vec<f64>,
+    triangles: Vec<[usize; 3]>,
+    fabric: &structure_section::Fabric,
+    bending_stiffness: Option<f64>,
+) -> Result<(), MeshError> {
+    if let Some(k) = bending_stiffness {
         for (i, j) in bending_pairs(&triangles) {
-            let rest = distance(&mesh.points, i, j);
+            let rest = distance(&points, i, j);
             m.springs.push(Spring {
                 i,
                 j,
@@ -322,12 +350,11 @@ fn add_cloth(m: &mut Model, c: &Cloth) -> Result<(), MeshError> {
     }
     add_surface(
         m,
-        mesh.points,
+        points,
         triangles,
-        c.fabric.areal_density,
-        c.fabric.elasticity(),
+        fabric.areal_density,
+        fabric.elasticity(),
     )?;
-    hold(m, &held);
     m.vent = Vec::new();
     Ok(())
 }

@@ -129,18 +129,17 @@ fn monitors(
         }
     }
     if let Some(s) = contacts {
-        v.push(Monitor::new(
-            "contact.proximity_impulses",
-            s.proximity as f64,
-        ));
-        v.push(Monitor::new(
-            "contact.collision_impulses",
-            s.collisions as f64,
-        ));
-        v.push(Monitor::new(
-            "contact.impact_zone_steps",
-            s.zone_steps as f64,
-        ));
+        let counts = [
+            ("proximity_impulses", s.proximity),
+            ("collision_impulses", s.collisions),
+            ("impact_zone_steps", s.zone_steps),
+            ("fabric_fabric", s.fabric_fabric),
+            ("fabric_string", s.fabric_string),
+            ("string_string", s.string_string),
+        ];
+        for (name, n) in counts {
+            v.push(Monitor::new(format!("contact.{name}"), n as f64));
+        }
     }
     if let Some(w) = omega_max {
         v.push(Monitor::new(OMEGA_MAX_MONITOR, w));

@@ -29,6 +29,7 @@ pub mod parachute;
 pub mod rectangle;
 pub mod release;
 pub mod rings;
+pub mod sheets;
 pub mod stability;
 pub mod system;
 pub mod window_start;

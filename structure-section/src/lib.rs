@@ -18,8 +18,10 @@ mod dome;
 pub mod integrator;
 pub mod parachute;
 mod scene;
+pub mod sheets;
 
 pub use scene::Scene;
+pub use sheets::{Cords, Disk};
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -55,6 +57,12 @@ pub struct StructureSection {
     /// A rectangular cloth.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cloth: Option<Cloth>,
+    /// A free circular cloth.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub disk: Option<Disk>,
+    /// Straight strings held at both ends, alone or in parallel bundles.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cords: Vec<Cords>,
     /// Strings from a fixed anchor to an attachment point on a rigid body.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub strings: Vec<StringSpec>,
@@ -301,18 +309,28 @@ impl StructureSection {
     pub fn check(&self, c: &mut Checker, rigid: Option<&RigidSection>) {
         c.within("structure", None, |c| {
             c.finite3(&["gravity"], self.gravity);
-            let surfaces = self.annulus.is_some() as u8 + self.parachute.is_some() as u8 + self.cloth.is_some() as u8;
-            if surfaces == 0 && self.strings.is_empty() && self.points.is_empty() {
-                c.problem(&[], "has nothing to simulate: give [structure.annulus], [structure.parachute], [structure.cloth], [[structure.strings]] or [[structure.points]]".into());
+            let surfaces = self.annulus.is_some() as u8
+                + self.parachute.is_some() as u8
+                + self.cloth.is_some() as u8
+                + self.disk.is_some() as u8;
+            if surfaces == 0 && self.strings.is_empty() && self.points.is_empty() && self.cords.is_empty() {
+                c.problem(&[], "has nothing to simulate: give [structure.annulus], [structure.parachute], [structure.cloth], [structure.disk], [[structure.strings]], [[structure.cords]] or [[structure.points]]".into());
             }
             if let Some(p) = &self.porous {
                 c.within("porous", None, |c| p.check(c));
                 if surfaces == 0 {
-                    c.problem(&["porous"], "a porous load needs a canopy surface: give [structure.annulus], [structure.parachute] or [structure.cloth]".into());
+                    c.problem(&["porous"], "a porous load needs a canopy surface: give [structure.annulus], [structure.parachute], [structure.cloth] or [structure.disk]".into());
                 }
             }
             if surfaces > 1 {
-                c.problem(&["cloth"], "give at most one of [structure.annulus], [structure.parachute] and [structure.cloth]".into());
+                let key = if self.disk.is_some() { "disk" } else { "cloth" };
+                c.problem(&[key], "give at most one of [structure.annulus], [structure.parachute], [structure.cloth] and [structure.disk]".into());
+            }
+            if let Some(d) = &self.disk {
+                d.check(c);
+            }
+            for (i, cord) in self.cords.iter().enumerate() {
+                cord.check(c, i);
             }
             if let Some(p) = &self.parachute {
                 p.check(c, |b| body_problem(rigid, b));

@@ -70,6 +70,22 @@ impl Stencil {
         Closest { w, separation }
     }
 
+    /// How far the two features' nearest points can come closer over the
+    /// step moving by `dx`: the largest motion of a node of each feature,
+    /// summed.
+    pub fn reach(&self, dx: &[f64]) -> f64 {
+        let moved = |n: usize| {
+            (dx[3 * n] * dx[3 * n] + dx[3 * n + 1] * dx[3 * n + 1] + dx[3 * n + 2] * dx[3 * n + 2])
+                .sqrt()
+        };
+        let split = match self.kind {
+            Kind::PointTriangle => 1,
+            Kind::EdgeEdge => 2,
+        };
+        let most = |nodes: &[usize]| nodes.iter().map(|&n| moved(n)).fold(0.0, f64::max);
+        most(&self.nodes[..split]) + most(&self.nodes[split..])
+    }
+
     /// The plane's normal of the pair with the nodes at `p`, not normalised:
     /// the triangle's (b − a) × (c − a), or the edges' (a₂ − a₁) × (b₂ − b₁).
     pub fn plane_normal(&self, p: &[V3; 4]) -> V3 {
@@ -100,7 +116,9 @@ impl Stencil {
         let mut times = cubic_roots_in_unit(&cubic);
         times.push(1.0);
         times
-            .into_iter()
+            .as_slice()
+            .iter()
+            .copied()
             .find(|&s| self.closest(&self.at(x, dx, s)).distance() < eta)
     }
 }
@@ -151,6 +169,27 @@ fn triple_product_cubic(v0: [V3; 3], dv: [V3; 3]) -> [f64; 4] {
 /// Bisections that bring a root's bracket below 2⁻⁵² of the step.
 const BISECTIONS: usize = 52;
 
+/// A few times in [0, 1], ascending: a cubic's roots and the step's end
+/// (at most five), kept on the stack, as this runs for every candidate pair.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Times {
+    at: [f64; 6],
+    len: usize,
+}
+
+impl Times {
+    fn push(&mut self, s: f64) {
+        if self.len < self.at.len() && (self.len == 0 || self.at[self.len - 1] != s) {
+            self.at[self.len] = s;
+            self.len += 1;
+        }
+    }
+
+    pub fn as_slice(&self) -> &[f64] {
+        &self.at[..self.len]
+    }
+}
+
 /// The roots of c₀ + c₁s + c₂s² + c₃s³ in [0, 1], ascending. The interval
 /// is cut at the derivative's roots into pieces where the cubic is
 /// monotone; a piece whose ends differ in sign (or touch zero) holds one
@@ -158,19 +197,24 @@ const BISECTIONS: usize = 52;
 /// closed formula can. A local extremum that nearly touches zero (a
 /// grazing contact, within round-off of the coefficients' size) counts as
 /// a root too: the distance test that follows decides.
-pub fn cubic_roots_in_unit(c: &[f64; 4]) -> Vec<f64> {
+pub fn cubic_roots_in_unit(c: &[f64; 4]) -> Times {
     let f = |s: f64| ((c[3] * s + c[2]) * s + c[1]) * s + c[0];
+    let mut roots = Times::default();
     let scale = c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     if scale == 0.0 {
         // Coplanar all through the step: only the distance can tell.
-        return vec![0.0, 0.5];
+        roots.push(0.0);
+        roots.push(0.5);
+        return roots;
     }
     let graze = 1e-12 * scale;
-    let mut cuts = vec![0.0];
-    cuts.extend(quadratic_roots_in_unit(3.0 * c[3], 2.0 * c[2], c[1]));
+    let mut cuts = Times::default();
+    cuts.push(0.0);
+    for s in quadratic_roots_in_unit(3.0 * c[3], 2.0 * c[2], c[1]).as_slice() {
+        cuts.push(*s);
+    }
     cuts.push(1.0);
-    let mut roots = Vec::new();
-    for w in cuts.windows(2) {
+    for w in cuts.as_slice().windows(2) {
         let (mut lo, mut hi) = (w[0], w[1]);
         let (flo, fhi) = (f(lo), f(hi));
         if flo.abs() <= graze {
@@ -193,16 +237,15 @@ pub fn cubic_roots_in_unit(c: &[f64; 4]) -> Vec<f64> {
     if f(1.0).abs() <= graze {
         roots.push(1.0);
     }
-    roots.dedup();
     roots
 }
 
-/// The roots of a + b·s + c·s² … written a s² + b s + c = 0 in (0, 1), ascending.
-fn quadratic_roots_in_unit(a: f64, b: f64, c: f64) -> Vec<f64> {
-    let mut r = Vec::with_capacity(2);
+/// The roots of a·s² + b·s + c = 0 in (0, 1), ascending.
+fn quadratic_roots_in_unit(a: f64, b: f64, c: f64) -> Times {
+    let mut r = [f64::NAN; 2];
     if a == 0.0 {
         if b != 0.0 {
-            r.push(-c / b);
+            r[0] = -c / b;
         }
     } else {
         let disc = b * b - 4.0 * a * c;
@@ -210,16 +253,22 @@ fn quadratic_roots_in_unit(a: f64, b: f64, c: f64) -> Vec<f64> {
             // The stable pair of formulas: no cancellation in either root.
             let q = -0.5 * (b + b.signum() * disc.sqrt());
             if q != 0.0 {
-                r.push(q / a);
-                r.push(c / q);
+                r = [q / a, c / q];
             } else {
-                r.push(0.0);
+                r[0] = 0.0;
             }
         }
     }
-    r.retain(|s| *s > 0.0 && *s < 1.0);
-    r.sort_by(f64::total_cmp);
-    r
+    if r[1] < r[0] {
+        r.swap(0, 1);
+    }
+    let mut out = Times::default();
+    for s in r {
+        if s > 0.0 && s < 1.0 {
+            out.push(s);
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -230,12 +279,16 @@ mod tests {
     fn cubic_roots_are_found_to_round_off() {
         // (s − 0.2)(s − 0.5)(s − 0.9) = s³ − 1.6 s² + 0.73 s − 0.09.
         let r = cubic_roots_in_unit(&[-0.09, 0.73, -1.6, 1.0]);
+        let r = r.as_slice();
         assert_eq!(r.len(), 3);
         for (got, want) in r.iter().zip([0.2, 0.5, 0.9]) {
             assert!((got - want).abs() < 1e-14, "{got} against {want}");
         }
         // A double root (a grazing touch) at 0.25: (s − 0.25)² (s + 1).
         let r = cubic_roots_in_unit(&[0.0625, -0.4375, 0.5, 1.0]);
-        assert!(r.iter().any(|s| (s - 0.25).abs() < 1e-7), "{r:?}");
+        assert!(
+            r.as_slice().iter().any(|s| (s - 0.25).abs() < 1e-7),
+            "{r:?}"
+        );
     }
 }

@@ -53,8 +53,13 @@ pub const PASSES: usize = 5;
 /// tolerance to catch the roots round-off moves).
 pub const IMPACT_FRACTION: f64 = 1e-2;
 
+/// The candidates' boxes reach this many layers beyond what the step's
+/// motion needs, so that impulses smaller than that leave them valid.
+pub const MARGIN: f64 = 0.1;
+
 /// Rounds of zone merging after which a step gives up (each round merges
-/// at least two zones, so a structure of n nodes needs at most n − 1).
+/// at least two zones, so a structure of n nodes needs at most n − 1; a
+/// round that merges none fails at once).
 const ZONE_ROUNDS: usize = 10_000;
 
 /// Below this many items a loop of the pass runs on the calling thread:
@@ -80,6 +85,32 @@ pub struct Stats {
     pub collisions: u64,
     /// Steps that needed impact zones.
     pub zone_steps: u64,
+    /// Impulses (proximity and collision) between two fabric features,
+    /// between fabric and string, and between two string segments.
+    pub fabric_fabric: u64,
+    pub fabric_string: u64,
+    pub string_string: u64,
+}
+
+impl Stats {
+    /// Count an impulse on `st`, whose nodes from `canopy_nodes` on are strings'.
+    fn count(&mut self, st: &Stencil, canopy_nodes: usize) {
+        let on_string = |n: usize| n >= canopy_nodes;
+        let (first, second) = match st.kind {
+            // A point is a string's if it is off the canopy; a triangle never is.
+            Kind::PointTriangle => (on_string(st.nodes[0]), false),
+            // An edge with an end off the canopy is a string segment.
+            Kind::EdgeEdge => (
+                st.nodes[..2].iter().any(|&n| on_string(n)),
+                st.nodes[2..].iter().any(|&n| on_string(n)),
+            ),
+        };
+        match (first, second) {
+            (false, false) => self.fabric_fabric += 1,
+            (true, true) => self.string_string += 1,
+            _ => self.fabric_string += 1,
+        }
+    }
 }
 
 /// The fabric's and strings' contacts with themselves and each other.
@@ -92,7 +123,18 @@ pub struct Contacts {
     strings: usize,
     /// Positions at the step's start, x^n.
     start: Vec<f64>,
+    /// Nodes from here on are the strings'.
+    canopy_nodes: usize,
     pub stats: Stats,
+}
+
+/// The candidate pairs of a step and the motion they were found for: they
+/// hold every pair that can come within the layer while no node's motion
+/// leaves that one by more than [`MARGIN`] layers.
+struct Candidates {
+    /// Each pair with its nearest points at the step's start.
+    pairs: Vec<(Stencil, geometry::Closest)>,
+    dx: Vec<f64>,
 }
 
 /// A pair found touching during the step.
@@ -128,6 +170,7 @@ impl Contacts {
                 dt: 0.0,
             },
             start: Vec::new(),
+            canopy_nodes: net.canopy_nodes,
             stats: Stats::default(),
         })
     }
@@ -165,11 +208,9 @@ impl Contacts {
         self.repulsion.dt = dt;
         let proposed: Vec<f64> = x.iter().zip(&self.start).map(|(a, b)| a - b).collect();
         let mut dx = proposed.clone();
-        self.tree
-            .refit(&self.surface, &self.start, &dx, self.repulsion.thickness);
-        let mut candidates = self.candidates(&dx);
+        let mut candidates = self.refreshed(&dx);
         if self.proximity(&candidates, inv_mass, &mut dx) {
-            candidates = self.refreshed(&dx);
+            candidates = self.current(candidates, &dx);
         }
         let mut hits = self.detect(&candidates, &dx);
         for pass in 1..=PASSES {
@@ -177,13 +218,15 @@ impl Contacts {
                 break;
             }
             for h in &hits {
-                self.stats.collisions +=
-                    impulse::stop(&h.stencil, &h.w, &h.normal, inv_mass, &mut dx) as u64;
+                if impulse::stop(&h.stencil, &h.w, &h.normal, inv_mass, &mut dx) {
+                    self.stats.collisions += 1;
+                    self.stats.count(&h.stencil, self.canopy_nodes);
+                }
             }
-            candidates = self.refreshed(&dx);
+            candidates = self.current(candidates, &dx);
             hits = self.detect(&candidates, &dx);
             if pass == PASSES && !hits.is_empty() {
-                self.impact_zones(hits, mass, inv_mass, &mut dx)?;
+                self.impact_zones(hits, candidates, mass, inv_mass, &mut dx)?;
                 break;
             }
         }
@@ -202,42 +245,80 @@ impl Contacts {
         Ok(())
     }
 
-    /// The tree refitted to the motion `dx`, and its candidates.
-    fn refreshed(&mut self, dx: &[f64]) -> Vec<Stencil> {
-        self.tree
-            .refit(&self.surface, &self.start, dx, self.repulsion.thickness);
-        self.candidates(dx)
+    /// How far the boxes reach beyond the features [m]: half the layer,
+    /// and the margin within which impulses may move a path before the
+    /// candidates must be found again.
+    fn reach(&self) -> f64 {
+        (0.5 + MARGIN) * self.repulsion.thickness
     }
 
-    /// The elementary pairs whose features' swept boxes, grown by half the
-    /// layer, overlap: the tree's primitive pairs, refined.
-    fn candidates(&self, dx: &[f64]) -> Vec<Stencil> {
+    /// The tree refitted to the motion `dx`, and its candidates.
+    fn refreshed(&mut self, dx: &[f64]) -> Candidates {
+        self.tree
+            .refit(&self.surface, &self.start, dx, self.reach());
+        Candidates {
+            pairs: self.candidates(dx),
+            dx: dx.to_vec(),
+        }
+    }
+
+    /// `c` if no node's motion has left `c`'s by more than the margin since
+    /// it was found, else the candidates found again.
+    fn current(&mut self, c: Candidates, dx: &[f64]) -> Candidates {
+        let moved = dx
+            .iter()
+            .zip(&c.dx)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        if moved <= MARGIN * self.repulsion.thickness {
+            c
+        } else {
+            self.refreshed(dx)
+        }
+    }
+
+    /// The elementary pairs that can matter to the step, with their
+    /// nearest points at its start: those of the tree's primitive pairs
+    /// whose features' swept boxes, grown by [`Contacts::reach`], overlap,
+    /// and that are within the layer at the start or close enough to touch
+    /// while their nodes move by `dx` and up to the margin more.
+    fn candidates(&self, dx: &[f64]) -> Vec<(Stencil, geometry::Closest)> {
         let pairs = self.tree.pairs();
-        let (x, layer) = (&self.start, self.repulsion.thickness);
+        let (x, reach) = (&self.start, self.reach());
+        let layer = self.repulsion.thickness;
+        // A node moving by the margin in each axis moves by at most √3
+        // margins: four margins cover both features.
+        let slack = IMPACT_FRACTION * layer + 4.0 * MARGIN * layer;
         let chunks: Vec<&[(usize, usize)]> = pairs.chunks(256).collect();
         let found = filter_map(&chunks, |chunk| {
-            let mut out = Vec::new();
+            let mut stencils = Vec::new();
             for &(p, q) in *chunk {
-                self.surface.stencils(p, q, &mut out);
+                self.surface.stencils(p, q, &mut stencils);
             }
-            out.retain(|st| features_near(st, x, dx, layer));
-            Some(out)
+            let near = stencils.into_iter().filter_map(|st| {
+                if !features_near(&st, x, dx, reach) {
+                    return None;
+                }
+                let c = st.closest(&st.at(x, dx, 0.0));
+                let d = c.distance();
+                (d < layer || d - st.reach(dx) <= slack).then_some((st, c))
+            });
+            Some(near.collect::<Vec<_>>())
         });
         found.concat()
     }
 
     /// Proximity impulses at x^n; true if any acted.
-    fn proximity(&mut self, candidates: &[Stencil], inv_mass: &[f64], dx: &mut [f64]) -> bool {
-        let (x, layer) = (&self.start, self.repulsion.thickness);
-        let moving: &[f64] = dx;
-        let near = filter_map(candidates, |st| {
-            let c = st.closest(&st.at(x, moving, 0.0));
-            (c.distance() < layer).then_some((*st, c))
-        });
+    fn proximity(&mut self, candidates: &Candidates, inv_mass: &[f64], dx: &mut [f64]) -> bool {
+        let layer = self.repulsion.thickness;
         let mut acted = false;
-        for (st, c) in &near {
+        for (st, c) in candidates
+            .pairs
+            .iter()
+            .filter(|(_, c)| c.distance() < layer)
+        {
             if self.repulsion.act(st, c, inv_mass, dx) {
                 self.stats.proximity += 1;
+                self.stats.count(st, self.canopy_nodes);
                 acted = true;
             }
         }
@@ -246,11 +327,16 @@ impl Contacts {
 
     /// The pairs that touch during the step from x^n along `dx`, with the
     /// normal that points from the second feature to the first as they
-    /// stood at the start.
-    fn detect(&self, candidates: &[Stencil], dx: &[f64]) -> Vec<Hit> {
+    /// stood at the start. A pair whose start distance exceeds what its
+    /// nodes move by more than the tolerance cannot touch: its cubic is
+    /// not solved.
+    fn detect(&self, candidates: &Candidates, dx: &[f64]) -> Vec<Hit> {
         let x = &self.start;
         let eta = IMPACT_FRACTION * self.repulsion.thickness;
-        filter_map(candidates, |st| {
+        filter_map(&candidates.pairs, |(st, before)| {
+            if before.distance() - st.reach(dx) > eta {
+                return None;
+            }
             let s = st.impact(x, dx, eta)?;
             let at = st.at(x, dx, s);
             let touch = st.closest(&at);
@@ -282,6 +368,7 @@ impl Contacts {
     fn impact_zones(
         &mut self,
         mut hits: Vec<Hit>,
+        mut candidates: Candidates,
         mass: &[f64],
         inv_mass: &[f64],
         dx: &mut [f64],
@@ -289,16 +376,27 @@ impl Contacts {
         self.stats.zone_steps += 1;
         let mut zones = Zones::new(inv_mass.len());
         for _ in 0..ZONE_ROUNDS {
+            let mut merged = false;
             for h in &hits {
                 let [a, b, c, d] = h.stencil.nodes;
-                zones.join(a, b);
-                zones.join(a, c);
-                zones.join(a, d);
+                for other in [b, c, d] {
+                    merged |= zones.join(a, other);
+                }
+            }
+            if !merged {
+                // Every colliding pair is inside one zone already: moving
+                // rigidly they were touching at the step's start.
+                return Err(format!(
+                    "{} pairs touch within {:e} m at the step's start (nodes {:?} …): the structure starts, or was put, in contact with itself",
+                    hits.len(),
+                    IMPACT_FRACTION * self.repulsion.thickness,
+                    hits[0].stencil.nodes
+                ));
             }
             for zone in zones.groups() {
                 zones::rigidify(&zone, &self.start, dx, mass, inv_mass);
             }
-            let candidates = self.refreshed(dx);
+            candidates = self.current(candidates, dx);
             hits = self.detect(&candidates, dx);
             if hits.is_empty() {
                 return Ok(());
@@ -311,13 +409,13 @@ impl Contacts {
     }
 }
 
-/// Whether the features' boxes over the step, grown by half the layer each, overlap.
-fn features_near(st: &Stencil, x: &[f64], dx: &[f64], layer: f64) -> bool {
+/// Whether the features' boxes over the step, each grown by `reach`, overlap.
+fn features_near(st: &Stencil, x: &[f64], dx: &[f64], reach: f64) -> bool {
     let split = match st.kind {
         Kind::PointTriangle => 1,
         Kind::EdgeEdge => 2,
     };
-    let (alo, ahi) = tree::swept_box(&st.nodes[..split], x, dx, 0.5 * layer);
-    let (blo, bhi) = tree::swept_box(&st.nodes[split..], x, dx, 0.5 * layer);
+    let (alo, ahi) = tree::swept_box(&st.nodes[..split], x, dx, reach);
+    let (blo, bhi) = tree::swept_box(&st.nodes[split..], x, dx, reach);
     (0..3).all(|c| alo[c] <= bhi[c] && blo[c] <= ahi[c])
 }

@@ -3,18 +3,20 @@
 //! node for self-collision culling.
 //!
 //! Each leaf's box holds its primitive at the step's start and end (a swept
-//! box), grown by half the proximity layer, so every pair closer than the
-//! layer at the start or meeting during the step shares a box overlap. The
+//! box), grown by half the proximity layer (and a margin), so every pair
+//! closer than the layer at the start or meeting during the step shares a
+//! box overlap. The
 //! tree is built top-down by median splits once, refitted every step, and
 //! rebuilt when refitting has let its boxes grow to twice their summed area
 //! at the last build.
 //!
 //! A fabric region that is one connected piece and whose normals, at the
-//! start and end of the step, all lie within a cone of half-angle under
-//! π/2 cannot meet itself (Volino & Magnenat-Thalmann 1994; Provot 1997, the
-//! curvature criterion, without the contour test): its self-test is
-//! skipped, so a flat or gently curved cloth costs a refit and no pair
-//! tests. parry's BVH has no per-node data for such cones, hence a tree of
+//! start and end of the step, all lie in one open hemisphere (a normal cone
+//! of half-angle under π/2) cannot meet itself (Volino & Magnenat-Thalmann
+//! 1994; Provot 1997, the curvature criterion, without the contour test):
+//! its self-test is skipped, so a flat or gently curved cloth costs a refit
+//! and no pair tests. The hemisphere is sought among 26 fixed directions
+//! ([`Facing`]). parry's BVH has no per-node data for this, hence a tree of
 //! our own; its layout is flat arrays, children after their parent.
 
 use super::geometry::V3;
@@ -33,62 +35,48 @@ enum Node {
     Inner(usize, usize),
 }
 
-/// The cone holding a region's unit normals: its axis and the cosine and
-/// sine of its half-angle. Only cones narrower than a hemisphere matter
-/// (half-angle under π/2); a wider one, or none known (strings, flipped
-/// normals), is [`NO_CONE`]. Angles add through their cosines and sines,
-/// so no inverse cosine is taken.
-#[derive(Debug, Clone, Copy)]
-struct Cone {
-    axis: V3,
-    cos: f64,
-    sin: f64,
-}
+/// Which of the [`DIRECTIONS`] every normal of a region, at the step's
+/// start and end, has a positive component along: bit k for direction k.
+/// A region with any bit set has all its normals in one open hemisphere (a
+/// normal cone narrower than π/2, tested against fixed axes, so that no
+/// square root is taken and two regions merge by a bitwise and). Its cone
+/// is caught when its axis lies within 90° minus its half-angle of one of
+/// the 26 directions of the cube's faces, edges and corners, which are at
+/// most 27.6° from any axis: every region
+/// whose normals lie within 62° of one axis is.
+type Facing = u32;
 
-const NO_CONE: Cone = Cone {
-    axis: V3::new(0.0, 0.0, 1.0),
-    cos: -1.0,
-    sin: 0.0,
-};
+/// No direction: strings, degenerate or flipping triangles.
+const FACING_NOWHERE: Facing = 0;
 
-impl Cone {
-    fn is_narrow(&self) -> bool {
-        self.cos > 0.0
+/// The directions along which the normal `n` (any length) is positive:
+/// the 13 directions (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, ±1, 0),
+/// (1, 0, ±1), (0, 1, ±1), (1, ±1, ±1) in bits 0–12 and their opposites
+/// in bits 13–25; the components along them are sums of n's, so no
+/// product is needed.
+#[inline(always)]
+fn facing(n: &V3) -> Facing {
+    let (x, y, z) = (n.x, n.y, n.z);
+    let along = [
+        x,
+        y,
+        z,
+        x + y,
+        x - y,
+        x + z,
+        x - z,
+        y + z,
+        y - z,
+        x + y + z,
+        x + y - z,
+        x - y + z,
+        x - y - z,
+    ];
+    let mut bits = 0;
+    for (k, v) in along.iter().enumerate() {
+        bits |= ((*v > 0.0) as Facing) << k | ((*v < 0.0) as Facing) << (k + 13);
     }
-
-    /// The cone of half-angle θ/2 around `axis`, θ having cosine `cos_theta`.
-    fn halving(axis: V3, cos_theta: f64) -> Cone {
-        let c = cos_theta.clamp(-1.0, 1.0);
-        Cone {
-            axis,
-            cos: (0.5 * (1.0 + c)).sqrt(),
-            sin: (0.5 * (1.0 - c)).sqrt(),
-        }
-    }
-
-    /// A cone around the mean axis holding both; [`NO_CONE`] once it is a
-    /// hemisphere or wider.
-    fn merge(&self, other: &Cone) -> Cone {
-        if !self.is_narrow() || !other.is_narrow() {
-            return NO_CONE;
-        }
-        let Some(axis) = (self.axis + other.axis).try_normalize(1e-12) else {
-            return NO_CONE;
-        };
-        // cos and sin of (angle from the axis to c's axis + c's half-angle):
-        // under π/2 exactly when the cosine is positive, the sum being
-        // under 3π/2.
-        let reach = |c: &Cone| {
-            let (ct, st) = (axis.dot(&c.axis), axis.cross(&c.axis).norm());
-            (ct * c.cos - st * c.sin, st * c.cos + ct * c.sin)
-        };
-        let (a, b) = (reach(self), reach(other));
-        let (cos, sin) = if a.0 < b.0 { a } else { b };
-        if cos <= 0.0 {
-            return NO_CONE;
-        }
-        Cone { axis, cos, sin }
-    }
+    bits
 }
 
 #[derive(Debug, Clone, Default)]
@@ -102,7 +90,7 @@ pub struct Tree {
     connected: Vec<bool>,
     lo: Vec<V3>,
     hi: Vec<V3>,
-    cone: Vec<Cone>,
+    facing: Vec<Facing>,
     /// The boxes' summed surface area right after the last build.
     built_area: f64,
     /// Builds so far (the first and every rebuild).
@@ -110,17 +98,17 @@ pub struct Tree {
 }
 
 impl Tree {
-    /// Fit the boxes and cones to the step from `x` to `x + dx`, with the
-    /// proximity `layer` [m]; build the tree first if it has none yet or it
+    /// Fit the boxes and facings to the step from `x` to `x + dx`, with the
+    /// boxes grown by `reach` [m]; build the tree first if it has none yet or it
     /// has degraded.
-    pub fn refit(&mut self, s: &Surface, x: &[f64], dx: &[f64], layer: f64) {
+    pub fn refit(&mut self, s: &Surface, x: &[f64], dx: &[f64], reach: f64) {
         let leaf = |p: usize| {
             (
-                swept_box(s.vertices(p), x, dx, 0.5 * layer),
-                leaf_cone(s, p, x, dx),
+                swept_box(s.vertices(p), x, dx, reach),
+                leaf_facing(s, p, x, dx),
             )
         };
-        let (boxes, cones): (Vec<(V3, V3)>, Vec<Cone>) = if s.len() < super::PARALLEL_ITEMS {
+        let (boxes, facings): (Vec<(V3, V3)>, Vec<Facing>) = if s.len() < super::PARALLEL_ITEMS {
             (0..s.len()).map(leaf).unzip()
         } else {
             (0..s.len()).into_par_iter().map(leaf).unzip()
@@ -128,28 +116,28 @@ impl Tree {
         if s.is_empty() {
             return;
         }
-        let degraded = |t: &mut Tree| t.fit(&boxes, &cones) > REBUILD_GROWTH * t.built_area;
+        let degraded = |t: &mut Tree| t.fit(&boxes, &facings) > REBUILD_GROWTH * t.built_area;
         if self.nodes.is_empty() || degraded(self) {
             self.build(s, &boxes);
-            self.built_area = self.fit(&boxes, &cones);
+            self.built_area = self.fit(&boxes, &facings);
         }
     }
 
-    /// Boxes and cones from the leaves up; returns the summed box area.
-    fn fit(&mut self, boxes: &[(V3, V3)], cones: &[Cone]) -> f64 {
+    /// Boxes and facings from the leaves up; returns the summed box area.
+    fn fit(&mut self, boxes: &[(V3, V3)], facings: &[Facing]) -> f64 {
         let mut area = 0.0;
         for n in (0..self.nodes.len()).rev() {
-            let (lo, hi, cone) = match self.nodes[n] {
-                Node::Leaf(p) => (boxes[p].0, boxes[p].1, cones[p]),
+            let (lo, hi, facing) = match self.nodes[n] {
+                Node::Leaf(p) => (boxes[p].0, boxes[p].1, facings[p]),
                 Node::Inner(l, r) => (
                     self.lo[l].inf(&self.lo[r]),
                     self.hi[l].sup(&self.hi[r]),
-                    self.cone[l].merge(&self.cone[r]),
+                    self.facing[l] & self.facing[r],
                 ),
             };
             let e = hi - lo;
             area += 2.0 * (e.x * e.y + e.y * e.z + e.z * e.x);
-            (self.lo[n], self.hi[n], self.cone[n]) = (lo, hi, cone);
+            (self.lo[n], self.hi[n], self.facing[n]) = (lo, hi, facing);
         }
         area
     }
@@ -168,7 +156,7 @@ impl Tree {
         let m = self.nodes.len();
         self.lo = vec![V3::zeros(); m];
         self.hi = vec![V3::zeros(); m];
-        self.cone = vec![NO_CONE; m];
+        self.facing = vec![FACING_NOWHERE; m];
         self.builds += 1;
     }
 
@@ -212,7 +200,7 @@ impl Tree {
 
     /// Whether node n's region cannot meet itself.
     fn smooth(&self, n: usize) -> bool {
-        self.connected[n] && self.cone[n].is_narrow()
+        self.connected[n] && self.facing[n] != FACING_NOWHERE
     }
 
     fn self_pairs(&self, n: usize) -> Vec<(usize, usize)> {
@@ -283,10 +271,11 @@ pub(super) fn swept_box(nodes: &[usize], x: &[f64], dx: &[f64], grow: f64) -> (V
     (lo.add_scalar(-grow), hi.add_scalar(grow))
 }
 
-/// A triangle's normals at the step's start and end as a cone; none for a segment.
-fn leaf_cone(s: &Surface, p: usize, x: &[f64], dx: &[f64]) -> Cone {
+/// The directions a triangle faces at both the step's start and end;
+/// none for a segment.
+fn leaf_facing(s: &Surface, p: usize, x: &[f64], dx: &[f64]) -> Facing {
     if !s.is_triangle(p) {
-        return NO_CONE;
+        return FACING_NOWHERE;
     }
     let normal = |scale: f64| {
         let q = s.nodes[p].map(|n| {
@@ -296,15 +285,9 @@ fn leaf_cone(s: &Surface, p: usize, x: &[f64], dx: &[f64]) -> Cone {
                 x[3 * n + 2] + scale * dx[3 * n + 2],
             )
         });
-        (q[1] - q[0]).cross(&(q[2] - q[0])).try_normalize(0.0)
+        (q[1] - q[0]).cross(&(q[2] - q[0]))
     };
-    let (Some(n0), Some(n1)) = (normal(0.0), normal(1.0)) else {
-        return NO_CONE;
-    };
-    let Some(axis) = (n0 + n1).try_normalize(1e-12) else {
-        return NO_CONE;
-    };
-    Cone::halving(axis, n0.dot(&n1))
+    facing(&normal(0.0)) & facing(&normal(1.0))
 }
 
 /// Whether `prims` are triangles forming one piece through shared nodes.

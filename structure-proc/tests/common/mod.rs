@@ -60,6 +60,8 @@ pub fn canopy(e: Elasticity, gravity: [f64; 3], damping: Option<Law>) -> Model {
         }),
         parachute: None,
         cloth: None,
+        disk: None,
+        cords: vec![],
         strings: vec![],
         points: vec![],
         springs: vec![],

@@ -11,6 +11,12 @@ const CLOTH_1E308: &str = "[structure.cloth]\nwidth = 1.0\ndepth = 1.0\nnodes_x 
 /// A C-9 on the ball, pre-shaped wider than its flat diameter, put before `[rigid]`.
 const PRESHAPED_WIDE: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\npreshaped_diameter = 9.0\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[rigid]\n";
 
+/// A disk of no rings, put before `[rigid]`.
+const DISK_NO_RINGS: &str = "[structure.disk]\ndiameter = 1.0\nrings = 0\n\n[structure.disk.fabric]\nareal_density = 0.1\nstiffness = 10.0\n\n[rigid]\n";
+
+/// Three strings on top of each other, put before `[rigid]`.
+const CORDS_NO_SPACING: &str = "[[structure.cords]]\nfrom = [0.0, 0.0, 1.0]\nto = [1.0, 0.0, 1.0]\nsegments = 4\nlinear_density = 0.01\naxial_stiffness = 10.0\ncount = 3\n\n[rigid]\n";
+
 const POROUS: &str = "[structure.porous]\nfree_stream = [0.0, 0.0, 1.0]\nporosity = 0.1\ndiameter = 1e-3\nthickness = 1e-4\n";
 
 pub const CASES: &[Case] = &[
@@ -179,6 +185,20 @@ pub const CASES: &[Case] = &[
         key: Some("structure.collision.self_contact"),
         says: "no [[rigid.bodies]] entry has a shape",
         line_of: Some("self_contact = false"),
+    },
+    Case {
+        name: "disk-without-rings",
+        edit: |t| replace(t, "[rigid]\n", DISK_NO_RINGS),
+        key: Some("structure.disk.rings"),
+        says: "rings = 0 must lie in 1..=400",
+        line_of: Some("rings = 0"),
+    },
+    Case {
+        name: "cords-on-top-of-each-other",
+        edit: |t| replace(t, "[rigid]\n", CORDS_NO_SPACING),
+        key: Some("structure.cords[0].spacing"),
+        says: "several strings need a spacing",
+        line_of: Some("[[structure.cords]]"),
     },
     Case {
         name: "collision-friction-negative",

@@ -1,0 +1,154 @@
+//! The structure's collision scenes (dissertation §4.3.2–4.3.3), run with
+//! the coupler: a circular cloth falling on a bundle of strings meets them,
+//! they meet each other, and the cloth's halves meet below them — in that
+//! order, as the dissertation describes — without a crossing in any output
+//! frame and without the contacts ever raising the energy; two balls in a
+//! cloth meet and bounce in it together.
+
+use canopy_tests::*;
+use participant::vtu;
+use structure_proc::collision::{intersections, Surface};
+
+/// The written states of the run in `out`, from its `<series>_*.vtu` files
+/// (`strings` has every node, `canopy` the fabric's).
+fn frames(out: &std::path::Path, series: &str) -> Vec<Vec<f64>> {
+    let mut paths: Vec<_> = std::fs::read_dir(out.join("vtk"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with(&format!("{series}_"))
+        })
+        .collect();
+    paths.sort();
+    paths.iter().map(|p| vtu::read_points(p).unwrap()).collect()
+}
+
+/// No crossing in any of the more than `least` states of `series` the run
+/// of `scenario` in `out` wrote, counted on the scene's own surface.
+fn assert_no_crossings(
+    scenario: &std::path::Path,
+    out: &std::path::Path,
+    series: &str,
+    least: usize,
+) {
+    let s = canopy_tests::Scenario::load(scenario).unwrap();
+    let model = structure_proc::build_model(s.structure.as_ref().unwrap(), None, 1e-4).unwrap();
+    let surface = Surface::of(&model.net);
+    let states = frames(out, series);
+    assert!(states.len() > least, "only {} frames", states.len());
+    for (k, x) in states.iter().enumerate() {
+        let found = intersections(&surface, x);
+        assert_eq!(found.total(), 0, "{series} frame {k}: {found:?}");
+    }
+}
+
+#[test]
+fn a_cloth_on_strings_meets_them_then_they_meet_then_it_meets_itself_and_nothing_crosses() {
+    // scenarios/cloth-strings.toml on a coarser mesh (8 rings, 20 segments
+    // a string), to 1.5 s: the three kinds of contact begin at 0.10, 0.33
+    // and 0.64 s.
+    let dir = scratch("cloth-strings");
+    let scenario = variant("cloth-strings", &dir, |s| {
+        s.run.end_time = 1.5;
+        s.coupling.structure_substeps = 10;
+        let st = s.structure.as_mut().unwrap();
+        st.disk.as_mut().unwrap().rings = 8;
+        st.cords[0].segments = 20;
+    });
+    let out = dir.join("run");
+    run_ok(&scenario, &out);
+    let m = Monitors::read(&out);
+    let t = m.column("time");
+    let first = |kind: &str| {
+        let c = m.column(&format!("structure.contact.{kind}"));
+        let k = c.iter().position(|&n| n > 0.0);
+        k.map(|k| t[k])
+            .unwrap_or_else(|| panic!("no {kind} contact"))
+    };
+    let (fs, ss, ff) = (
+        first("fabric_string"),
+        first("string_string"),
+        first("fabric_fabric"),
+    );
+    assert!(
+        fs < ss && ss < ff,
+        "first contacts: fabric–string {fs} s, string–string {ss} s, fabric–fabric {ff} s"
+    );
+
+    // Viscous damping and gravity only: the energy (kinetic + elastic +
+    // gravitational) falls at every window; a contact that added energy
+    // (a repulsion pushing too hard) would show as a rise.
+    let e: Vec<f64> = m
+        .column("structure.kinetic_energy")
+        .iter()
+        .zip(m.column("structure.potential_energy"))
+        .map(|(k, p)| k + p)
+        .collect();
+    for w in 1..e.len() {
+        assert!(
+            e[w] <= e[w - 1] + 1e-12,
+            "t = {}: energy rose by {:e} J",
+            t[w],
+            e[w] - e[w - 1]
+        );
+    }
+
+    // No triangle pair, segment through a triangle or segment through a
+    // segment in any written state (parry's tests, not the pass's).
+    assert_no_crossings(&scenario, &out, "strings", 25);
+}
+
+#[test]
+fn two_balls_meet_in_the_cloth_and_bounce_in_it_together() {
+    // scenarios/ball-cloth.toml as shipped (dissertation §4.3.3, fig. 4.9):
+    // the balls (radius 0.08 m) fall into the cloth held along two edges,
+    // are thrown and rolled together, meet at 2.0 s, are parted once by the
+    // cloth, meet again at 3.3 s and from then on stay in contact (C_R = 0
+    // between them, eq. 3.28), bouncing in the cloth together.
+    let dir = scratch("ball-cloth");
+    let out = dir.join("run");
+    let scenario = scenario_path("ball-cloth");
+    run_ok(&scenario, &out);
+    let m = Monitors::read(&out);
+    let t = m.column("time");
+    let at = |ball: &str, axis: &str| m.column(&format!("rigid.{ball}.{axis}"));
+    let (lx, ly, lz) = (at("left", "x"), at("left", "y"), at("left", "z"));
+    let (rx, ry, rz) = (at("right", "x"), at("right", "y"), at("right", "z"));
+    let gap = |k: usize| {
+        ((lx[k] - rx[k]).powi(2) + (ly[k] - ry[k]).powi(2) + (lz[k] - rz[k]).powi(2)).sqrt() - 0.16
+    };
+    let contacts = m.column("rigid.contact_impulses");
+    let first = contacts
+        .iter()
+        .position(|&c| c > 0.0)
+        .expect("the balls meet");
+    assert!(
+        t[first] > 1.5,
+        "they meet at {} s, before the cloth rolled them together",
+        t[first]
+    );
+    let together: Vec<usize> = (0..t.len()).filter(|&k| t[k] >= 3.3).collect();
+    for &k in &together {
+        assert!(
+            gap(k) < 3e-3,
+            "t = {}: the balls are {} m apart",
+            t[k],
+            gap(k)
+        );
+    }
+    // Bouncing together: each ball's vertical velocity turns at least twice.
+    let vz = at("left", "vz");
+    let turns = together
+        .windows(2)
+        .filter(|w| vz[w[0]].signum() != vz[w[1]].signum())
+        .count();
+    assert!(
+        turns >= 2,
+        "the left ball's vertical velocity turned {turns} times"
+    );
+    // The cloth crosses itself in no written state.
+    assert_no_crossings(&scenario, &out, "canopy", 100);
+}
