@@ -121,10 +121,13 @@ fn monitors(
     ];
     if let Some(o) = obstacles {
         v.push(Monitor::new("collision_impulses", o.impulses as f64));
+        // The bodies push through both passes: the node–body impulses and
+        // the static bodies' surfaces in the contact pass.
+        let surfaces = contacts.map_or([0.0; 3], |s| s.received);
         for (c, axis) in ["x", "y", "z"].iter().enumerate() {
             v.push(Monitor::new(
                 format!("collision_impulse.{axis}"),
-                o.received[c],
+                o.received[c] + surfaces[c],
             ));
         }
     }
@@ -136,6 +139,7 @@ fn monitors(
             ("fabric_fabric", s.fabric_fabric),
             ("fabric_string", s.fabric_string),
             ("string_string", s.string_string),
+            ("structure_body", s.structure_body),
         ];
         for (name, n) in counts {
             v.push(Monitor::new(format!("contact.{name}"), n as f64));
@@ -233,10 +237,10 @@ pub fn run<S: Stepper>(
         (Some(spec), Some(rigid)) => Some(Obstacles::new(rigid, spec)?),
         _ => None,
     };
-    let contacts = section
-        .collision
-        .as_ref()
-        .and_then(|spec| Contacts::new(&m.net, spec));
+    let contacts = match &section.collision {
+        Some(spec) => Contacts::with_bodies(&m.net, spec, scene.rigid.as_ref())?,
+        None => None,
+    };
     let watch = Watch::new(&m, &scene);
     let stepper = make(section, &m)?;
     let omega_max = stepper

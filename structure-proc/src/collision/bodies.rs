@@ -266,3 +266,33 @@ fn distance_to_segment(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> 
     };
     (a + ab * t - p).norm()
 }
+
+/// Segments around a sphere or cylinder when its surface is meshed for the
+/// structure's contact pass: the chord sits 1 − cos(π/24) ≈ 0.9 % of the
+/// radius inside the true surface, well inside the node–body layer for the
+/// scenes' bodies.
+const SURFACE_SEGMENTS: u32 = 24;
+
+/// The world-frame surface points (xyz) and triangles of `rigid`'s static
+/// shaped bodies, the triangles numbered from `first`.
+pub fn static_surfaces(
+    rigid: Option<&RigidSection>,
+    first: usize,
+) -> Result<(Vec<f64>, Vec<[usize; 3]>), String> {
+    let (mut points, mut triangles) = (Vec::new(), Vec::new());
+    for spec in rigid.iter().flat_map(|r| &r.bodies) {
+        if spec.motion != Motion::Static || spec.shape.is_none() {
+            continue;
+        }
+        let body = Body::from_spec(spec).map_err(|e| format!("body `{}`: {e}", spec.name))?;
+        let Some(shape) = &body.shape else { continue };
+        let (own, tris) = shape.surface_with(SURFACE_SEGMENTS);
+        let base = first + points.len() / 3;
+        let pose = body.own_pose();
+        for p in own {
+            points.extend_from_slice((pose * p).coords.as_slice());
+        }
+        triangles.extend(tris.iter().map(|t| t.map(|k| base + k as usize)));
+    }
+    Ok((points, triangles))
+}

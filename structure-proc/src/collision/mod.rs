@@ -90,11 +90,24 @@ pub struct Stats {
     pub fabric_fabric: u64,
     pub fabric_string: u64,
     pub string_string: u64,
+    /// Impulses between the structure and a static body's surface.
+    #[serde(default)]
+    pub structure_body: u64,
+    /// Momentum the pass gave the structure's free nodes from outside them
+    /// so far [N·s]: static bodies' pushes, and zones that moved with a
+    /// held node (self-contact impulses cancel).
+    #[serde(default)]
+    pub received: [f64; 3],
 }
 
 impl Stats {
-    /// Count an impulse on `st`, whose nodes from `canopy_nodes` on are strings'.
-    fn count(&mut self, st: &Stencil, canopy_nodes: usize) {
+    /// Count an impulse on `st`, whose nodes from `canopy_nodes` on are
+    /// strings', and from `structure_nodes` on static bodies'.
+    fn count(&mut self, st: &Stencil, canopy_nodes: usize, structure_nodes: usize) {
+        if st.nodes.iter().any(|&n| n >= structure_nodes) {
+            self.structure_body += 1;
+            return;
+        }
         let on_string = |n: usize| n >= canopy_nodes;
         let (first, second) = match st.kind {
             // A point is a string's if it is off the canopy; a triangle never is.
@@ -121,8 +134,14 @@ pub struct Contacts {
     /// Active string springs when the surface was made: a break, or a
     /// break undone by a checkpoint, changes it.
     strings: usize,
-    /// Positions at the step's start, x^n.
+    /// Positions at the step's start, x^n, then the static bodies' surface
+    /// points (`fixed`).
     start: Vec<f64>,
+    /// The surface points of the static bodies, world frame, numbered after
+    /// the structure's nodes: they take part in every test and never move.
+    fixed: Vec<f64>,
+    /// Their triangles, over node numbers after the structure's.
+    fixed_triangles: Vec<[usize; 3]>,
     /// Nodes from here on are the strings'.
     canopy_nodes: usize,
     pub stats: Stats,
@@ -148,18 +167,32 @@ impl Contacts {
     /// The pass for `net`, or None when the section switches it off or
     /// nothing can collide.
     pub fn new(net: &Network, spec: &Collision) -> Option<Contacts> {
+        Contacts::with_bodies(net, spec, None).ok().flatten()
+    }
+
+    /// The pass for `net` with the surfaces of `rigid`'s static shaped
+    /// bodies as fixed obstacles (their edges and faces against the
+    /// structure's, so a thin rod between two nodes stops a cloth). Moving
+    /// bodies stay with the node–body pass ([`Obstacles`]), which gives
+    /// them the reaction.
+    pub fn with_bodies(
+        net: &Network,
+        spec: &Collision,
+        rigid: Option<&structure_section::RigidSection>,
+    ) -> Result<Option<Contacts>, String> {
         if !spec.self_contact {
-            return None;
+            return Ok(None);
         }
-        let surface = Surface::of(net);
-        if surface.is_empty() {
-            return None;
+        let (fixed, fixed_triangles) = bodies::static_surfaces(rigid, net.nodes())?;
+        let surface = Surface::with_fixed(net, &fixed_triangles);
+        if surface.len() == fixed_triangles.len() {
+            return Ok(None);
         }
         // Eq. 3.30's k: the scenario's, else the network's mean stiffness
         // (Bridson et al. 2002 use the cloth's stretch stiffness).
         let mean =
             net.couplings.iter().map(|c| c.2).sum::<f64>() / net.couplings.len().max(1) as f64;
-        Some(Contacts {
+        Ok(Some(Contacts {
             strings: surface.len() - surface.triangles,
             surface,
             tree: Tree::default(),
@@ -170,14 +203,16 @@ impl Contacts {
                 dt: 0.0,
             },
             start: Vec::new(),
+            fixed,
+            fixed_triangles,
             canopy_nodes: net.canopy_nodes,
             stats: Stats::default(),
-        })
+        }))
     }
 
     /// Make the surface again if lines broke or a checkpoint mended them.
     pub fn sync(&mut self, net: &Network) {
-        let surface = Surface::of(net);
+        let surface = Surface::with_fixed(net, &self.fixed_triangles);
         if surface.len() - surface.triangles != self.strings {
             self.strings = surface.len() - surface.triangles;
             self.surface = surface;
@@ -189,6 +224,7 @@ impl Contacts {
     pub fn begin_step(&mut self, x: &[f64]) {
         self.start.clear();
         self.start.extend_from_slice(x);
+        self.start.extend_from_slice(&self.fixed);
     }
 
     /// Resolve the contacts of the step of `dt` that took the nodes from
@@ -206,8 +242,17 @@ impl Contacts {
         dt: f64,
     ) -> Result<(), String> {
         self.repulsion.dt = dt;
-        let proposed: Vec<f64> = x.iter().zip(&self.start).map(|(a, b)| a - b).collect();
+        let mut proposed: Vec<f64> = x.iter().zip(&self.start).map(|(a, b)| a - b).collect();
+        // The static bodies' points: no mass, no motion.
+        proposed.resize(self.start.len(), 0.0);
+        let with_fixed = |a: &[f64]| {
+            let mut v = a.to_vec();
+            v.resize(self.start.len() / 3, 0.0);
+            v
+        };
+        let (mass, inv_mass) = (&with_fixed(mass)[..], &with_fixed(inv_mass)[..]);
         let mut dx = proposed.clone();
+        let structure_nodes = self.structure_nodes();
         let mut candidates = self.refreshed(&dx);
         if self.proximity(&candidates, inv_mass, &mut dx) {
             candidates = self.current(candidates, &dx);
@@ -220,7 +265,8 @@ impl Contacts {
             for h in &hits {
                 if impulse::stop(&h.stencil, &h.w, &h.normal, inv_mass, &mut dx) {
                     self.stats.collisions += 1;
-                    self.stats.count(&h.stencil, self.canopy_nodes);
+                    self.stats
+                        .count(&h.stencil, self.canopy_nodes, structure_nodes);
                 }
             }
             candidates = self.current(candidates, &dx);
@@ -230,7 +276,7 @@ impl Contacts {
                 break;
             }
         }
-        for (n, &w) in inv_mass.iter().enumerate() {
+        for (n, &w) in inv_mass.iter().enumerate().take(x.len() / 3) {
             if w == 0.0 {
                 continue;
             }
@@ -238,11 +284,18 @@ impl Contacts {
                 let i = 3 * n + c;
                 if dx[i] != proposed[i] {
                     x[i] = self.start[i] + dx[i];
-                    v[i] += (dx[i] - proposed[i]) / dt;
+                    let dv = (dx[i] - proposed[i]) / dt;
+                    v[i] += dv;
+                    self.stats.received[c] += mass[n] * dv;
                 }
             }
         }
         Ok(())
+    }
+
+    /// How many of the nodes are the structure's (the static bodies' follow).
+    fn structure_nodes(&self) -> usize {
+        (self.start.len() - self.fixed.len()) / 3
     }
 
     /// How far the boxes reach beyond the features [m]: half the layer,
@@ -318,7 +371,8 @@ impl Contacts {
         {
             if self.repulsion.act(st, c, inv_mass, dx) {
                 self.stats.proximity += 1;
-                self.stats.count(st, self.canopy_nodes);
+                self.stats
+                    .count(st, self.canopy_nodes, self.structure_nodes());
                 acted = true;
             }
         }

@@ -34,7 +34,14 @@ impl Surface {
     /// end beyond the canopy's nodes: suspension lines, hand-built strings);
     /// a broken spring (k = 0) is no longer a segment.
     pub fn of(net: &Network) -> Surface {
+        Surface::with_fixed(net, &[])
+    }
+
+    /// [`Surface::of`] with `fixed` triangles too, over nodes numbered
+    /// after the network's: the surfaces of static bodies.
+    pub fn with_fixed(net: &Network, fixed: &[[usize; 3]]) -> Surface {
         let mut nodes: Vec<[usize; 3]> = net.triangles.clone();
+        nodes.extend_from_slice(fixed);
         let triangles = nodes.len();
         let mut seen = std::collections::HashSet::new();
         for s in &net.springs {
@@ -49,7 +56,8 @@ impl Surface {
             triangles,
             ..Surface::default()
         };
-        surface.own(net.nodes());
+        let fixed_nodes = fixed.iter().flatten().map(|&n| n + 1).max().unwrap_or(0);
+        surface.own(net.nodes().max(fixed_nodes));
         surface
     }
 
