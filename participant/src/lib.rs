@@ -17,6 +17,7 @@
 //! protocol is described for solver authors in `docs/PROTOCOL.md`.
 
 mod acceleration;
+pub mod atomic;
 mod channel;
 mod clock;
 mod declaration;

@@ -6,6 +6,7 @@
 //! Every file is written to a temporary name and renamed, so a run that stops
 //! at any moment leaves only complete files behind.
 
+use crate::atomic::write_atomic;
 use std::fmt::Write as _;
 use std::io;
 use std::path::{Path, PathBuf};
@@ -36,17 +37,6 @@ pub struct Piece<'a> {
     /// Point indices, `kind.arity()` per cell.
     pub connectivity: &'a [usize],
     pub point_data: Vec<(&'a str, usize, &'a [f64])>,
-}
-
-/// Write aside and rename. On failure (a full disk) the file aside is
-/// removed, and the error names the file.
-fn write_atomic(path: &Path, contents: &str) -> io::Result<()> {
-    let tmp = path.with_extension("tmp");
-    let written = std::fs::write(&tmp, contents).and_then(|_| std::fs::rename(&tmp, path));
-    written.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
-    })
 }
 
 fn join(values: &[f64]) -> String {

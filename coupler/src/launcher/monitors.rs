@@ -129,12 +129,7 @@ impl Monitors {
         let layout = Layout::of(names, declarations);
         // Written aside and renamed, so the file appears with its header.
         let header = format!("{}\n", layout.header);
-        let tmp = path.with_extension("csv.tmp");
-        let written = std::fs::write(&tmp, &header).and_then(|_| std::fs::rename(&tmp, path));
-        if let Err(e) = written {
-            let _ = std::fs::remove_file(&tmp);
-            return Err(io_error(path, e));
-        }
+        participant::atomic::write_atomic(path, &header).map_err(|e| io_error(path, e))?;
         Monitors::open(path, layout, timing, 0)
     }
 

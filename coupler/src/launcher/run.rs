@@ -8,6 +8,7 @@ use super::programs::Program;
 use super::progress::Progress;
 use super::supervise::{self, Child, Exit};
 use super::{EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_RUN_FAILED};
+use participant::atomic::write_atomic;
 use participant::supervisor::{self as names, Setup, SuperviseError, Supervisor};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -132,7 +133,8 @@ fn launch(
         "command_line": std::env::args().collect::<Vec<_>>(),
         "resumed_after_window": resume,
     });
-    let _ = std::fs::write(run_dir.join("manifest.json"), early.to_string());
+    // Written aside and renamed: a coupler killed here leaves no empty manifest.
+    let _ = write_atomic(&run_dir.join("manifest.json"), &early.to_string());
     // Stale resources of earlier runs that died are removed before this one starts.
     names::cleanup_dead_nodes();
 
@@ -168,9 +170,9 @@ fn launch(
     let opening = super::opening::Opening::read(&run_dir.join("monitors.csv"));
     manifest["parachute"] = opening.map_or(serde_json::Value::Null, |o| o.to_json());
     manifest[SCENARIO_FILE] = json!(scenario_file);
-    let _ = std::fs::write(
-        run_dir.join("manifest.json"),
-        serde_json::to_string_pretty(&manifest).unwrap_or_default(),
+    let _ = write_atomic(
+        &run_dir.join("manifest.json"),
+        &serde_json::to_string_pretty(&manifest).unwrap_or_default(),
     );
     tell(&end, &children, run_dir, started, scenario_path);
     if let Some(o) = opening {
