@@ -19,7 +19,7 @@
 //!    nodes the pass moved; the others keep x^can and v^can bit for bit.
 //!
 //! The candidates come from an AABB tree over triangles and segments with
-//! normal-cone culling (`tree.rs`), found in parallel; the impulses are
+//! normal-hemisphere culling (`tree.rs`), found in parallel; the impulses are
 //! applied one pair at a time in an order fixed by the tree, so a run is
 //! the same on any number of threads.
 

@@ -1,5 +1,5 @@
 //! The broad phase: a bounding-volume hierarchy (AABB tree) over the
-//! fabric's triangles and the strings' segments, with a normal cone on each
+//! fabric's triangles and the strings' segments, with a normal hemisphere on each
 //! node for self-collision culling.
 //!
 //! Each leaf's box holds its primitive at the step's start and end (a swept
