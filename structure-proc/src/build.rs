@@ -78,17 +78,30 @@ pub fn build_model(
     for c in &s.cords {
         crate::sheets::add_cords(&mut m, c);
     }
-    for st in &s.strings {
+    add_strings(&mut m, &s.strings, rigid);
+    add_dampers(&mut m, s, dt);
+    m.prepare();
+    Ok(m)
+}
+
+/// Each `[[structure.strings]]` entry: a massless string from a fixed
+/// anchor node to a node attached to its rigid body.
+fn add_strings(
+    m: &mut Model,
+    strings: &[structure_section::StringSpec],
+    rigid: Option<&RigidSection>,
+) {
+    for st in strings {
         // A massless string: fixed anchor node and a node attached to the body.
         let anchor = m.nodes();
-        push_node(&mut m, st.anchor, NodeKind::Fixed);
+        push_node(m, st.anchor, NodeKind::Fixed);
         let body = rigid
             .and_then(|r| r.bodies.iter().find(|b| b.name == st.body))
             .map(|b| b.world_point(st.body_point))
             .unwrap_or(st.anchor);
         let end = m.nodes();
         let attachment = m.attachments.len();
-        push_node(&mut m, body, NodeKind::Attached(attachment));
+        push_node(m, body, NodeKind::Attached(attachment));
         m.attachments.push(Attachment {
             node: end,
             x0: body,
@@ -103,9 +116,6 @@ pub fn build_model(
             eps: st.compressive_tolerance,
         });
     }
-    add_dampers(&mut m, s, dt);
-    m.prepare();
-    Ok(m)
 }
 
 /// The fabric surface: free nodes at `points`, its triangles, lumped masses and

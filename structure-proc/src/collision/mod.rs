@@ -210,12 +210,12 @@ impl Contacts {
         }))
     }
 
-    /// Make the surface again if lines broke or a checkpoint mended them.
+    /// Make the surface again if lines broke or a checkpoint mended them
+    /// (called after every restore, so it first counts the segments alone).
     pub fn sync(&mut self, net: &Network) {
-        let surface = Surface::with_fixed(net, &self.fixed_triangles);
-        if surface.len() - surface.triangles != self.strings {
-            self.strings = surface.len() - surface.triangles;
-            self.surface = surface;
+        if surface::segments(net).count() != self.strings {
+            self.surface = Surface::with_fixed(net, &self.fixed_triangles);
+            self.strings = self.surface.len() - self.surface.triangles;
             self.tree = Tree::default();
         }
     }
@@ -245,12 +245,10 @@ impl Contacts {
         let mut proposed: Vec<f64> = x.iter().zip(&self.start).map(|(a, b)| a - b).collect();
         // The static bodies' points: no mass, no motion.
         proposed.resize(self.start.len(), 0.0);
-        let with_fixed = |a: &[f64]| {
-            let mut v = a.to_vec();
-            v.resize(self.start.len() / 3, 0.0);
-            v
-        };
-        let (mass, inv_mass) = (&with_fixed(mass)[..], &with_fixed(inv_mass)[..]);
+        // The static bodies' points have no mass (copied only if there are any).
+        let nodes = self.start.len() / 3;
+        let (mass, inv_mass) = (padded(mass, nodes), padded(inv_mass, nodes));
+        let (mass, inv_mass) = (&mass[..], &inv_mass[..]);
         let mut dx = proposed.clone();
         let structure_nodes = self.structure_nodes();
         let mut candidates = self.refreshed(&dx);
@@ -460,6 +458,17 @@ impl Contacts {
             "impact zones did not end the collisions in {ZONE_ROUNDS} rounds ({} pairs left)",
             hits.len()
         ))
+    }
+}
+
+/// `a` with zeros up to `len`, borrowed when it is that long already.
+fn padded(a: &[f64], len: usize) -> std::borrow::Cow<'_, [f64]> {
+    if a.len() == len {
+        a.into()
+    } else {
+        let mut v = a.to_vec();
+        v.resize(len, 0.0);
+        v.into()
     }
 }
 

@@ -29,6 +29,18 @@ pub struct Surface {
     edge_start: Vec<usize>,
 }
 
+/// The strings' segments of `net`: springs with an end beyond the canopy's
+/// nodes (suspension lines, hand-built strings), each node pair once; a
+/// broken spring (k = 0) is none.
+pub fn segments(net: &Network) -> impl Iterator<Item = (usize, usize)> + '_ {
+    let mut seen = std::collections::HashSet::new();
+    net.springs.iter().filter_map(move |s| {
+        let key = (s.i.min(s.j), s.i.max(s.j));
+        let string = s.i >= net.canopy_nodes || s.j >= net.canopy_nodes;
+        (string && s.k > 0.0 && s.i != s.j && seen.insert(key)).then_some((s.i, s.j))
+    })
+}
+
 impl Surface {
     /// The network's canopy triangles and the springs that are strings (an
     /// end beyond the canopy's nodes: suspension lines, hand-built strings);
@@ -43,14 +55,7 @@ impl Surface {
         let mut nodes: Vec<[usize; 3]> = net.triangles.clone();
         nodes.extend_from_slice(fixed);
         let triangles = nodes.len();
-        let mut seen = std::collections::HashSet::new();
-        for s in &net.springs {
-            let key = (s.i.min(s.j), s.i.max(s.j));
-            let string = s.i >= net.canopy_nodes || s.j >= net.canopy_nodes;
-            if string && s.k > 0.0 && s.i != s.j && seen.insert(key) {
-                nodes.push([s.i, s.j, s.j]);
-            }
-        }
+        nodes.extend(segments(net).map(|(i, j)| [i, j, j]));
         let mut surface = Surface {
             nodes,
             triangles,

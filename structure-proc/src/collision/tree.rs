@@ -93,8 +93,6 @@ pub struct Tree {
     facing: Vec<Facing>,
     /// The boxes' summed surface area right after the last build.
     built_area: f64,
-    /// Builds so far (the first and every rebuild).
-    pub builds: u64,
 }
 
 impl Tree {
@@ -157,7 +155,6 @@ impl Tree {
         self.lo = vec![V3::zeros(); m];
         self.hi = vec![V3::zeros(); m];
         self.facing = vec![FACING_NOWHERE; m];
-        self.builds += 1;
     }
 
     /// Add the subtree over `prims`.
