@@ -471,6 +471,9 @@ impl<S: Stepper> Driven<S> {
         }
         if let Some(o) = &mut self.obstacles {
             o.set_states(&p.read_field(COLLISION_BODIES)?, step.time);
+            if let Some(c) = &mut self.contacts {
+                c.place_bodies(&o.bodies);
+            }
         }
         Ok(())
     }
@@ -503,8 +506,16 @@ impl<S: Stepper> Driven<S> {
             }
             let t = step.time + (k + 1) as f64 * h;
             if let Some(c) = &mut self.contacts {
+                if let Some(o) = &self.obstacles {
+                    c.move_bodies(&o.bodies, h);
+                }
                 if let Err(e) = c.resolve(&mut m.x, &mut m.v, &m.net.mass, &m.net.inv_mass, h) {
                     return Some(format!("the collision pass failed at t = {t:.6e} s: {e}"));
+                }
+                if let Some(o) = &mut self.obstacles {
+                    for (b, lin, ang) in c.body_momenta() {
+                        o.push(b, &lin, &ang);
+                    }
                 }
             }
             if let Some(o) = &mut self.obstacles {

@@ -4,7 +4,9 @@
 //! stopped without an intersection and with momentum kept, and eq. 3.30's
 //! repulsion with Coulomb friction against its formula.
 
-use structure_proc::collision::{intersections, Contacts, Kind, Stencil, Surface};
+use structure_proc::collision::{
+    intersections, triangles_through, Contacts, Kind, Stencil, Surface,
+};
 use structure_proc::network::Network;
 use structure_proc::{NodeKind, Spring};
 use structure_section::Collision;
@@ -379,8 +381,6 @@ struct Drop {
 /// the body of `rigid` (TOML) for 0.4 s; the body's surface in the contact
 /// pass when `surfaces`, else only the node–body pass meets it.
 fn drop_cloth(rigid: &str, surfaces: bool) -> Drop {
-    use parry3d_f64::query::intersection_test;
-    use parry3d_f64::shape::Triangle;
     let s = section(
         r#"
         integrator = "velocity-verlet"
@@ -430,20 +430,7 @@ fn drop_cloth(rigid: &str, surfaces: bool) -> Drop {
                 .self_crossings
                 .max(intersections(&surface, &m.x).total());
             let p = |n: usize| nalgebra::Point3::new(m.x[3 * n], m.x[3 * n + 1], m.x[3 * n + 2]);
-            let through = m
-                .triangles
-                .iter()
-                .filter(|t| {
-                    let tri = Triangle::new(p(t[0]), p(t[1]), p(t[2]));
-                    intersection_test(
-                        &pose,
-                        shape.shape.as_ref(),
-                        &nalgebra::Isometry3::identity(),
-                        &tri,
-                    )
-                    .unwrap_or(false)
-                })
-                .count();
+            let through = triangles_through(shape.shape.as_ref(), &pose, &m.x, &m.triangles);
             drop.through_body = drop.through_body.max(through);
             let inside = (0..m.nodes())
                 .filter(|&n| shape.shape.contains_point(&pose, &p(n)))

@@ -36,6 +36,13 @@ pub struct Collision {
     /// stiffness of the structure's springs and membrane edges.
     #[serde(default)]
     pub repulsion_stiffness: Option<f64>,
+    /// Whether moving shaped bodies' surfaces (faceted, 24 segments round)
+    /// join the contact pass as static bodies' do, their edges and faces
+    /// against the structure's, each body taking the reaction. Off by
+    /// default: a round body then meets the fabric by facets rather than by
+    /// its exact normals, which changes how balls roll in a cloth.
+    #[serde(default)]
+    pub moving_body_surfaces: bool,
 }
 
 impl Default for Collision {
@@ -46,6 +53,7 @@ impl Default for Collision {
             self_contact: true,
             friction: 0.0,
             repulsion_stiffness: None,
+            moving_body_surfaces: false,
         }
     }
 }

@@ -100,6 +100,18 @@ impl Obstacles {
         rigid_proc::body::hold(&mut self.bodies, &self.motions, time);
     }
 
+    /// Give body `b` the linear momentum `lin` and the angular momentum
+    /// `ang` about its centre (world axes): its velocities change at once,
+    /// and the rigid solver gets them with this sub-step's momenta.
+    pub fn push(&mut self, b: usize, lin: &Vector3<f64>, ang: &Vector3<f64>) {
+        self.bodies[b].apply_momentum(lin, ang);
+        let m = &mut self.momenta[MOMENTUM_LEN * b..MOMENTUM_LEN * (b + 1)];
+        for c in 0..3 {
+            m[c] += lin[c];
+            m[3 + c] += ang[c];
+        }
+    }
+
     /// Remember the positions `x` at the start of a structure step.
     pub fn begin_step(&mut self, x: &[f64]) {
         self.start.clear();
@@ -162,13 +174,7 @@ impl Obstacles {
             vi_new += j * inv_m;
             self.received += j;
             let r = hit.point - body.state.x;
-            let (lin, ang) = (-j, r.cross(&-j));
-            self.bodies[b].apply_momentum(&lin, &ang);
-            let m = &mut self.momenta[MOMENTUM_LEN * b..MOMENTUM_LEN * (b + 1)];
-            for c in 0..3 {
-                m[c] += lin[c];
-                m[3 + c] += ang[c];
-            }
+            self.push(b, &-j, &r.cross(&-j));
             gave = true;
         }
         for c in 0..3 {
@@ -273,26 +279,85 @@ fn distance_to_segment(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> 
 /// scenes' bodies.
 const SURFACE_SEGMENTS: u32 = 24;
 
-/// The world-frame surface points (xyz) and triangles of `rigid`'s static
-/// shaped bodies, the triangles numbered from `first`.
-pub fn static_surfaces(
+/// The shaped bodies' surfaces as the contact pass meets them: static
+/// bodies' points fixed in the world, moving bodies' carried by them.
+#[derive(Debug, Clone, Default)]
+pub struct BodySurfaces {
+    /// World positions (xyz) of every body's surface points, as the scene
+    /// places the bodies.
+    pub points: Vec<f64>,
+    /// Their triangles, over node numbers from the `first` given.
+    pub triangles: Vec<[usize; 3]>,
+    /// The moving bodies among them.
+    pub carried: Vec<Carried>,
+}
+
+/// A moving body's surface points.
+#[derive(Debug, Clone)]
+pub struct Carried {
+    /// The body's place in `[rigid]`.
+    pub body: usize,
+    /// The node number of its first point.
+    pub first: usize,
+    /// Its points in the body's own frame.
+    pub own: Vec<Point3<f64>>,
+    /// Its centre of mass as the scene places it.
+    pub centre: Vector3<f64>,
+    /// Its true shape, for the normal at a contact.
+    pub shape: SharedShape,
+    /// World ← shape frame as the scene places it.
+    pub pose: Isometry3<f64>,
+}
+
+impl Carried {
+    /// The body's surface point nearest to `p` and the unit outward normal
+    /// there, the body posed by `pose`.
+    pub fn surface_at(
+        &self,
+        pose: &Isometry3<f64>,
+        p: &Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let proj = surface_point(&self.shape, pose, &Point3::from(*p));
+        let out = (p - proj.point.coords) * if proj.is_inside { -1.0 } else { 1.0 };
+        let normal = out
+            .try_normalize(1e-300)
+            .unwrap_or_else(|| (proj.point.coords - pose.translation.vector).normalize());
+        (proj.point.coords, normal)
+    }
+}
+
+/// The surfaces of `rigid`'s shaped bodies, their points numbered from
+/// `first` on: the static ones', and the moving ones' too if `moving`.
+pub fn surfaces(
     rigid: Option<&RigidSection>,
     first: usize,
-) -> Result<(Vec<f64>, Vec<[usize; 3]>), String> {
-    let (mut points, mut triangles) = (Vec::new(), Vec::new());
-    for spec in rigid.iter().flat_map(|r| &r.bodies) {
-        if spec.motion != Motion::Static || spec.shape.is_none() {
+    moving: bool,
+) -> Result<BodySurfaces, String> {
+    let mut out = BodySurfaces::default();
+    for (index, spec) in rigid.iter().flat_map(|r| &r.bodies).enumerate() {
+        if spec.shape.is_none() || (spec.motion != Motion::Static && !moving) {
             continue;
         }
         let body = Body::from_spec(spec).map_err(|e| format!("body `{}`: {e}", spec.name))?;
         let Some(shape) = &body.shape else { continue };
         let (own, tris) = shape.surface_with(SURFACE_SEGMENTS);
-        let base = first + points.len() / 3;
+        let base = first + out.points.len() / 3;
         let pose = body.own_pose();
-        for p in own {
-            points.extend_from_slice((pose * p).coords.as_slice());
+        for p in &own {
+            out.points.extend_from_slice((pose * p).coords.as_slice());
         }
-        triangles.extend(tris.iter().map(|t| t.map(|k| base + k as usize)));
+        out.triangles
+            .extend(tris.iter().map(|t| t.map(|k| base + k as usize)));
+        if spec.motion != Motion::Static {
+            out.carried.push(Carried {
+                body: index,
+                first: base,
+                own,
+                centre: body.state.x,
+                shape: shape.shape.clone(),
+                pose: body.shape_pose(),
+            });
+        }
     }
-    Ok((points, triangles))
+    Ok(out)
 }

@@ -10,10 +10,7 @@
 //! edge b₁b₂ has w = [1 − s, s, −(1 − t), −t]. Impulses use the same weights
 //! (`impulse.rs`), which is why they keep momentum.
 
-use nalgebra::{Point3, Vector3};
-use parry3d_f64::query::details::closest_points_segment_segment_with_locations_nD;
-use parry3d_f64::query::PointQueryWithLocation;
-use parry3d_f64::shape::{SegmentPointLocation, Triangle};
+use nalgebra::Vector3;
 
 pub type V3 = Vector3<f64>;
 
@@ -70,22 +67,6 @@ impl Stencil {
         Closest { w, separation }
     }
 
-    /// How far the two features' nearest points can come closer over the
-    /// step moving by `dx`: the largest motion of a node of each feature,
-    /// summed.
-    pub fn reach(&self, dx: &[f64]) -> f64 {
-        let moved = |n: usize| {
-            (dx[3 * n] * dx[3 * n] + dx[3 * n + 1] * dx[3 * n + 1] + dx[3 * n + 2] * dx[3 * n + 2])
-                .sqrt()
-        };
-        let split = match self.kind {
-            Kind::PointTriangle => 1,
-            Kind::EdgeEdge => 2,
-        };
-        let most = |nodes: &[usize]| nodes.iter().map(|&n| moved(n)).fold(0.0, f64::max);
-        most(&self.nodes[..split]) + most(&self.nodes[split..])
-    }
-
     /// The plane's normal of the pair with the nodes at `p`, not normalised:
     /// the triangle's (b − a) × (c − a), or the edges' (a₂ − a₁) × (b₂ − b₁).
     pub fn plane_normal(&self, p: &[V3; 4]) -> V3 {
@@ -124,32 +105,16 @@ impl Stencil {
 }
 
 /// p's nearest point on the triangle abc, as w = [1, −α, −β, −γ].
+#[inline]
 fn point_triangle_weights(p: &[V3; 4]) -> [f64; 4] {
-    let tri = Triangle::new(p[1].into(), p[2].into(), p[3].into());
-    let (_, loc) = tri.project_local_point_and_get_location(&Point3::from(p[0]), false);
-    // A degenerate (zero-area) triangle has no barycentric coordinates: its
-    // nearest vertex stands for it.
-    let [a, b, c] = loc.barycentric_coordinates().unwrap_or_else(|| {
-        let d = [1, 2, 3].map(|i| (p[i] - p[0]).norm_squared());
-        let k = (0..3).min_by(|&i, &j| d[i].total_cmp(&d[j])).unwrap_or(0);
-        let mut w = [0.0; 3];
-        w[k] = 1.0;
-        w
-    });
+    let [a, b, c] = super::nearest::point_triangle(&p[0], &p[1], &p[2], &p[3]);
     [1.0, -a, -b, -c]
 }
 
 /// The nearest points of the edges a₁a₂ and b₁b₂, as w = [1 − s, s, −(1 − t), −t].
+#[inline]
 fn edge_edge_weights(p: &[V3; 4]) -> [f64; 4] {
-    let pts = p.map(Point3::from);
-    let (s, t) =
-        closest_points_segment_segment_with_locations_nD((&pts[0], &pts[1]), (&pts[2], &pts[3]));
-    let along = |l: SegmentPointLocation| match l {
-        SegmentPointLocation::OnVertex(0) => 0.0,
-        SegmentPointLocation::OnVertex(_) => 1.0,
-        SegmentPointLocation::OnEdge([_, u]) => u,
-    };
-    let (s, t) = (along(s), along(t));
+    let (s, t) = super::nearest::segment_segment(&p[0], &p[1], &p[2], &p[3]);
     [1.0 - s, s, t - 1.0, -t]
 }
 

@@ -26,14 +26,23 @@ pub fn inverse_mass(st: &Stencil, w: &[f64; 4], inv_mass: &[f64]) -> f64 {
 }
 
 /// Change the pair's relative displacement by `change`, sharing it by the
-/// weights and inverse masses; `k` is [`inverse_mass`].
-pub fn apply(st: &Stencil, w: &[f64; 4], inv_mass: &[f64], k: f64, change: V3, dx: &mut [f64]) {
+/// weights and inverse masses; `k` is [`inverse_mass`]. Returns J·Δt =
+/// `change`/k, J the impulse: node i takes wᵢ·J (none if it cannot move).
+pub fn apply(
+    st: &Stencil,
+    w: &[f64; 4],
+    inv_mass: &[f64],
+    k: f64,
+    change: V3,
+    dx: &mut [f64],
+) -> V3 {
     for (&n, &wi) in st.nodes.iter().zip(w) {
         let share = change * (wi * inv_mass[n] / k);
         for c in 0..3 {
             dx[3 * n + c] += share[c];
         }
     }
+    change / k
 }
 
 /// What the proximity pass needs of the scene.
@@ -55,11 +64,18 @@ impl Repulsion {
     /// stops the approach, the repulsion of eq. 3.30,
     /// I = min(Δt·k·d, m(0.1·d/Δt − vₙ)) for the overlap d, and Coulomb
     /// friction on the tangential motion, at most μ times the normal
-    /// change (Bridson et al. 2002, §7.2). Returns true if it acted.
-    pub fn act(&self, st: &Stencil, near: &Closest, inv_mass: &[f64], dx: &mut [f64]) -> bool {
+    /// change (Bridson et al. 2002, §7.2). Returns J·Δt if it acted
+    /// ([`apply`]).
+    pub fn act(
+        &self,
+        st: &Stencil,
+        near: &Closest,
+        inv_mass: &[f64],
+        dx: &mut [f64],
+    ) -> Option<V3> {
         let k = inverse_mass(st, &near.w, inv_mass);
         if k == 0.0 {
-            return false;
+            return None;
         }
         let rel = relative(st, &near.w, dx);
         let distance = near.distance();
@@ -68,7 +84,7 @@ impl Repulsion {
             // Touching: the normal that opposes the approach.
             _ => match rel.try_normalize(1e-300) {
                 Some(r) => -r,
-                None => return false,
+                None => return None,
             },
         };
         let d = self.thickness - distance;
@@ -83,7 +99,7 @@ impl Repulsion {
         };
         let normal = inelastic + elastic;
         if normal <= 0.0 {
-            return false;
+            return None;
         }
         let tangential = rel - n * dn;
         let slip = tangential.norm();
@@ -92,20 +108,18 @@ impl Repulsion {
         } else {
             V3::zeros()
         };
-        apply(st, &near.w, inv_mass, k, n * normal + friction, dx);
-        true
+        Some(apply(st, &near.w, inv_mass, k, n * normal + friction, dx))
     }
 }
 
 /// The inelastic collision impulse (eq. 3.28 for the pair's weights): the
-/// pair's approach along `n` over the step is stopped. Returns true if it
-/// acted.
-pub fn stop(st: &Stencil, w: &[f64; 4], n: &V3, inv_mass: &[f64], dx: &mut [f64]) -> bool {
+/// pair's approach along `n` over the step is stopped. Returns J·Δt if it
+/// acted ([`apply`]).
+pub fn stop(st: &Stencil, w: &[f64; 4], n: &V3, inv_mass: &[f64], dx: &mut [f64]) -> Option<V3> {
     let k = inverse_mass(st, w, inv_mass);
     let dn = relative(st, w, dx).dot(n);
     if k == 0.0 || dn >= 0.0 {
-        return false;
+        return None;
     }
-    apply(st, w, inv_mass, k, n * -dn, dx);
-    true
+    Some(apply(st, w, inv_mass, k, n * -dn, dx))
 }

@@ -94,3 +94,21 @@ pub fn intersections(surface: &Surface, x: &[f64]) -> Intersections {
     }
     found
 }
+
+/// How many of `triangles` (over the nodes at `x`, xyz per node) cross
+/// the shape `shape` posed by `pose` (parry's GJK test).
+pub fn triangles_through(
+    shape: &dyn parry3d_f64::shape::Shape,
+    pose: &Isometry3<f64>,
+    x: &[f64],
+    triangles: &[[usize; 3]],
+) -> usize {
+    let p = |n: usize| Point3::new(x[3 * n], x[3 * n + 1], x[3 * n + 2]);
+    triangles
+        .iter()
+        .filter(|t| {
+            let tri = Triangle::new(p(t[0]), p(t[1]), p(t[2]));
+            query::intersection_test(pose, shape, &Isometry3::identity(), &tri).unwrap_or(false)
+        })
+        .count()
+}

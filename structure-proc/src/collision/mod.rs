@@ -24,23 +24,30 @@
 //! the same on any number of threads.
 
 mod bodies;
+mod candidates;
 pub mod geometry;
 mod impulse;
 pub mod intersections;
+mod nearest;
 pub mod surface;
+mod sweep;
 mod tree;
 mod zones;
 
 pub use bodies::Obstacles;
 pub use geometry::{Kind, Stencil};
-pub use intersections::{intersections, Intersections};
+pub use intersections::{intersections, triangles_through, Intersections};
 pub use surface::Surface;
 
 use crate::network::Network;
+use bodies::BodySurfaces;
+use candidates::Candidates;
 use geometry::V3;
 use impulse::Repulsion;
 use rayon::prelude::*;
+use rigid_proc::body::Body;
 use structure_section::Collision;
+use sweep::Sweep;
 use tree::Tree;
 use zones::Zones;
 
@@ -134,26 +141,28 @@ pub struct Contacts {
     /// Active string springs when the surface was made: a break, or a
     /// break undone by a checkpoint, changes it.
     strings: usize,
-    /// Positions at the step's start, x^n, then the static bodies' surface
-    /// points (`fixed`).
+    /// Positions at the step's start, x^n, then the bodies' surface points.
     start: Vec<f64>,
-    /// The surface points of the static bodies, world frame, numbered after
-    /// the structure's nodes: they take part in every test and never move.
-    fixed: Vec<f64>,
-    /// Their triangles, over node numbers after the structure's.
-    fixed_triangles: Vec<[usize; 3]>,
+    /// The shaped bodies' surfaces, numbered after the structure's nodes:
+    /// their points take part in every test and no impulse moves them;
+    /// static bodies' stay put, moving bodies' are carried by them.
+    bodies: BodySurfaces,
+    /// The carried points' motion over the coming step (xyz, zero for the
+    /// static bodies' points), set by [`Contacts::move_bodies`].
+    carried_dx: Vec<f64>,
+    /// Each carried body's centre of mass at the step's start, and its motion.
+    centres: Vec<(V3, V3)>,
+    /// Each carried body's shape pose and centre when last placed.
+    placed: Vec<(nalgebra::Isometry3<f64>, V3)>,
+    /// Linear then angular momentum each carried body took in the last
+    /// [`Contacts::resolve`] (world axes, about its centre), in
+    /// [`BodySurfaces::carried`]'s order.
+    momenta: Vec<(V3, V3)>,
+    /// The structure's nodes; the bodies' points are numbered after them.
+    nodes: usize,
     /// Nodes from here on are the strings'.
     canopy_nodes: usize,
     pub stats: Stats,
-}
-
-/// The candidate pairs of a step and the motion they were found for: they
-/// hold every pair that can come within the layer while no node's motion
-/// leaves that one by more than [`MARGIN`] layers.
-struct Candidates {
-    /// Each pair with its nearest points at the step's start.
-    pairs: Vec<(Stencil, geometry::Closest)>,
-    dx: Vec<f64>,
 }
 
 /// A pair found touching during the step.
@@ -170,11 +179,13 @@ impl Contacts {
         Contacts::with_bodies(net, spec, None).ok().flatten()
     }
 
-    /// The pass for `net` with the surfaces of `rigid`'s static shaped
-    /// bodies as fixed obstacles (their edges and faces against the
-    /// structure's, so a thin rod between two nodes stops a cloth). Moving
-    /// bodies stay with the node–body pass ([`Obstacles`]), which gives
-    /// them the reaction.
+    /// The pass for `net` with the surfaces of `rigid`'s shaped bodies:
+    /// their edges and faces meet the structure's (a thin rod between two
+    /// nodes stops a cloth). Static bodies' stay put; moving bodies, with
+    /// `moving_body_surfaces`, carry theirs ([`Contacts::place_bodies`],
+    /// [`Contacts::move_bodies`]) and take the reaction of every impulse
+    /// they give ([`Contacts::body_momenta`]); without it they meet nodes
+    /// only, in the node–body pass ([`Obstacles`]).
     pub fn with_bodies(
         net: &Network,
         spec: &Collision,
@@ -183,9 +194,9 @@ impl Contacts {
         if !spec.self_contact {
             return Ok(None);
         }
-        let (fixed, fixed_triangles) = bodies::static_surfaces(rigid, net.nodes())?;
-        let surface = Surface::with_fixed(net, &fixed_triangles);
-        if surface.len() == fixed_triangles.len() {
+        let bodies = bodies::surfaces(rigid, net.nodes(), spec.moving_body_surfaces)?;
+        let surface = Surface::with_fixed(net, &bodies.triangles);
+        if surface.len() == bodies.triangles.len() {
             return Ok(None);
         }
         // Eq. 3.30's k: the scenario's, else the network's mean stiffness
@@ -203,8 +214,16 @@ impl Contacts {
                 dt: 0.0,
             },
             start: Vec::new(),
-            fixed,
-            fixed_triangles,
+            carried_dx: vec![0.0; bodies.points.len()],
+            centres: bodies
+                .carried
+                .iter()
+                .map(|c| (c.centre, V3::zeros()))
+                .collect(),
+            placed: bodies.carried.iter().map(|c| (c.pose, c.centre)).collect(),
+            momenta: vec![(V3::zeros(), V3::zeros()); bodies.carried.len()],
+            bodies,
+            nodes: net.nodes(),
             canopy_nodes: net.canopy_nodes,
             stats: Stats::default(),
         }))
@@ -214,7 +233,7 @@ impl Contacts {
     /// (called after every restore, so it first counts the segments alone).
     pub fn sync(&mut self, net: &Network) {
         if surface::segments(net).count() != self.strings {
-            self.surface = Surface::with_fixed(net, &self.fixed_triangles);
+            self.surface = Surface::with_fixed(net, &self.bodies.triangles);
             self.strings = self.surface.len() - self.surface.triangles;
             self.tree = Tree::default();
         }
@@ -224,7 +243,53 @@ impl Contacts {
     pub fn begin_step(&mut self, x: &[f64]) {
         self.start.clear();
         self.start.extend_from_slice(x);
-        self.start.extend_from_slice(&self.fixed);
+        self.start.extend_from_slice(&self.bodies.points);
+    }
+
+    /// Put the moving bodies' surfaces where `bodies` (every `[rigid]` body,
+    /// in order, as the rigid solver sends them) are.
+    pub fn place_bodies(&mut self, bodies: &[Body]) {
+        let structure = self.nodes;
+        for (k, c) in self.bodies.carried.iter().enumerate() {
+            let body = &bodies[c.body];
+            let pose = body.own_pose();
+            for (i, p) in c.own.iter().enumerate() {
+                let at = 3 * (c.first - structure + i);
+                self.bodies.points[at..at + 3].copy_from_slice((pose * p).coords.as_slice());
+            }
+            self.centres[k].0 = body.state.x;
+            self.placed[k] = (body.shape_pose(), body.state.x);
+        }
+    }
+
+    /// Let the moving bodies carry their surfaces over the coming step of
+    /// `dt` with `bodies`' velocities: each point by v + ω × r over the step
+    /// (the body taken as moving rigidly, too heavy for one impulse to turn
+    /// within the step; it takes the momentum afterwards).
+    pub fn move_bodies(&mut self, bodies: &[Body], dt: f64) {
+        let structure = self.nodes;
+        for (k, c) in self.bodies.carried.iter().enumerate() {
+            let body = &bodies[c.body];
+            for i in 0..c.own.len() {
+                let at = 3 * (c.first - structure + i);
+                let p = V3::from_column_slice(&self.bodies.points[at..at + 3]);
+                let d = body.velocity_at(&p) * dt;
+                self.carried_dx[at..at + 3].copy_from_slice(d.as_slice());
+            }
+            self.centres[k].1 = body.state.v * dt;
+        }
+    }
+
+    /// The momentum each moving body took in the last [`Contacts::resolve`]:
+    /// its place in `[rigid]`, the linear and the angular momentum about its
+    /// centre [N·s, N·m·s], world axes. The structure's nodes took the
+    /// opposite.
+    pub fn body_momenta(&self) -> impl Iterator<Item = (usize, V3, V3)> + '_ {
+        self.bodies
+            .carried
+            .iter()
+            .zip(&self.momenta)
+            .map(|(c, (lin, ang))| (c.body, *lin, *ang))
     }
 
     /// Resolve the contacts of the step of `dt` that took the nodes from
@@ -242,10 +307,11 @@ impl Contacts {
         dt: f64,
     ) -> Result<(), String> {
         self.repulsion.dt = dt;
+        self.momenta.fill((V3::zeros(), V3::zeros()));
         let mut proposed: Vec<f64> = x.iter().zip(&self.start).map(|(a, b)| a - b).collect();
-        // The static bodies' points: no mass, no motion.
-        proposed.resize(self.start.len(), 0.0);
-        // The static bodies' points have no mass (copied only if there are any).
+        // The bodies' points: no mass, the motion their bodies give them.
+        proposed.extend_from_slice(&self.carried_dx);
+        // The bodies' points have no mass (copied only if there are any).
         let nodes = self.start.len() / 3;
         let (mass, inv_mass) = (padded(mass, nodes), padded(inv_mass, nodes));
         let (mass, inv_mass) = (&mass[..], &inv_mass[..]);
@@ -261,7 +327,8 @@ impl Contacts {
                 break;
             }
             for h in &hits {
-                if impulse::stop(&h.stencil, &h.w, &h.normal, inv_mass, &mut dx) {
+                if let Some(jdt) = impulse::stop(&h.stencil, &h.w, &h.normal, inv_mass, &mut dx) {
+                    self.credit(&h.stencil, &h.w, jdt);
                     self.stats.collisions += 1;
                     self.stats
                         .count(&h.stencil, self.canopy_nodes, structure_nodes);
@@ -288,12 +355,108 @@ impl Contacts {
                 }
             }
         }
+        self.carry();
         Ok(())
     }
 
-    /// How many of the nodes are the structure's (the static bodies' follow).
+    /// How many of the nodes are the structure's (the bodies' points follow).
     fn structure_nodes(&self) -> usize {
-        (self.start.len() - self.fixed.len()) / 3
+        self.nodes
+    }
+
+    /// The moving body that carries node `n`, by its place in
+    /// [`BodySurfaces::carried`], if any.
+    fn carrier(&self, n: usize) -> Option<usize> {
+        if n < self.nodes {
+            return None;
+        }
+        self.bodies
+            .carried
+            .iter()
+            .position(|c| (c.first..c.first + c.own.len()).contains(&n))
+    }
+
+    /// Give the moving bodies of `st` the reaction of the impulse
+    /// `jdt`/Δt the pair took with weights `w`: node i took wᵢ·J, so a
+    /// body's points, which no impulse moves, take theirs as the body's
+    /// momentum, and linear momentum is kept. The body's feature is its
+    /// faceted surface; its torque is taken where the true surface is, along
+    /// its true normal (plus the tangential part when there is friction),
+    /// so facets do not spin a frictionless ball.
+    fn credit(&mut self, st: &Stencil, w: &[f64; 4], jdt: V3) {
+        if st.nodes.iter().all(|&n| n < self.nodes) {
+            return;
+        }
+        let j = jdt / self.repulsion.dt;
+        let carriers: Vec<(usize, f64, V3)> = st
+            .nodes
+            .iter()
+            .zip(w)
+            .filter_map(|(&n, &wi)| {
+                let at = V3::from_column_slice(&self.start[3 * n..3 * n + 3]);
+                self.carrier(n).map(|k| (k, wi, at * wi))
+            })
+            .collect();
+        for (i, &(k, _, _)) in carriers.iter().enumerate() {
+            if carriers[..i].iter().any(|c| c.0 == k) {
+                continue;
+            }
+            let (weight, at) = carriers
+                .iter()
+                .filter(|c| c.0 == k)
+                .fold((0.0, V3::zeros()), |(s, a), c| (s + c.1, a + c.2));
+            if weight == 0.0 {
+                continue;
+            }
+            let push = j * weight;
+            let torque = self.torque(k, &(at / weight), &push);
+            self.momenta[k].0 += push;
+            self.momenta[k].1 += torque;
+        }
+    }
+
+    /// The torque about carried body k's centre of the push `push` on its
+    /// faceted surface at `at`: applied at the true surface's nearest point,
+    /// along its normal there (all of it when there is friction).
+    fn torque(&self, k: usize, at: &V3, push: &V3) -> V3 {
+        let carried = &self.bodies.carried[k];
+        let (pose, placed) = &self.placed[k];
+        // The body has moved by this since it was placed.
+        let shift = self.centres[k].0 - placed;
+        let (surface, normal) = carried.surface_at(pose, &(at - shift));
+        let along = if self.repulsion.friction > 0.0 {
+            *push
+        } else {
+            normal * normal.dot(push)
+        };
+        (surface - placed).cross(&along)
+    }
+
+    /// The linear and angular momentum (about carried body k's centre) of
+    /// `zone`'s structure nodes moving by `dx` over the step.
+    fn zone_momentum(&self, zone: &[usize], k: usize, dx: &[f64], mass: &[f64]) -> (V3, V3) {
+        let dt = self.repulsion.dt;
+        let centre = self.centres[k].0;
+        zone.iter().filter(|&&n| n < self.nodes).fold(
+            (V3::zeros(), V3::zeros()),
+            |(lin, ang), &n| {
+                let p = V3::from_column_slice(&dx[3 * n..3 * n + 3]) * (mass[n] / dt);
+                let r = V3::from_column_slice(&self.start[3 * n..3 * n + 3]) - centre;
+                (lin + p, ang + r.cross(&p))
+            },
+        )
+    }
+
+    /// Move the bodies' points and centres to the step's end.
+    fn carry(&mut self) {
+        for (p, d) in self.bodies.points.iter_mut().zip(&mut self.carried_dx) {
+            *p += *d;
+            *d = 0.0;
+        }
+        for (centre, d) in &mut self.centres {
+            *centre += *d;
+            *d = V3::zeros();
+        }
     }
 
     /// How far the boxes reach beyond the features [m]: half the layer,
@@ -301,61 +464,6 @@ impl Contacts {
     /// candidates must be found again.
     fn reach(&self) -> f64 {
         (0.5 + MARGIN) * self.repulsion.thickness
-    }
-
-    /// The tree refitted to the motion `dx`, and its candidates.
-    fn refreshed(&mut self, dx: &[f64]) -> Candidates {
-        self.tree
-            .refit(&self.surface, &self.start, dx, self.reach());
-        Candidates {
-            pairs: self.candidates(dx),
-            dx: dx.to_vec(),
-        }
-    }
-
-    /// `c` if no node's motion has left `c`'s by more than the margin since
-    /// it was found, else the candidates found again.
-    fn current(&mut self, c: Candidates, dx: &[f64]) -> Candidates {
-        let moved = dx
-            .iter()
-            .zip(&c.dx)
-            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
-        if moved <= MARGIN * self.repulsion.thickness {
-            c
-        } else {
-            self.refreshed(dx)
-        }
-    }
-
-    /// The elementary pairs that can matter to the step, with their
-    /// nearest points at its start: those of the tree's primitive pairs
-    /// whose features' swept boxes, grown by [`Contacts::reach`], overlap,
-    /// and that are within the layer at the start or close enough to touch
-    /// while their nodes move by `dx` and up to the margin more.
-    fn candidates(&self, dx: &[f64]) -> Vec<(Stencil, geometry::Closest)> {
-        let pairs = self.tree.pairs();
-        let (x, reach) = (&self.start, self.reach());
-        let layer = self.repulsion.thickness;
-        // A node moving by the margin in each axis moves by at most √3
-        // margins: four margins cover both features.
-        let slack = IMPACT_FRACTION * layer + 4.0 * MARGIN * layer;
-        let chunks: Vec<&[(usize, usize)]> = pairs.chunks(256).collect();
-        let found = filter_map(&chunks, |chunk| {
-            let mut stencils = Vec::new();
-            for &(p, q) in *chunk {
-                self.surface.stencils(p, q, &mut stencils);
-            }
-            let near = stencils.into_iter().filter_map(|st| {
-                if !features_near(&st, x, dx, reach) {
-                    return None;
-                }
-                let c = st.closest(&st.at(x, dx, 0.0));
-                let d = c.distance();
-                (d < layer || d - st.reach(dx) <= slack).then_some((st, c))
-            });
-            Some(near.collect::<Vec<_>>())
-        });
-        found.concat()
     }
 
     /// Proximity impulses at x^n; true if any acted.
@@ -367,7 +475,8 @@ impl Contacts {
             .iter()
             .filter(|(_, c)| c.distance() < layer)
         {
-            if self.repulsion.act(st, c, inv_mass, dx) {
+            if let Some(jdt) = self.repulsion.act(st, c, inv_mass, dx) {
+                self.credit(st, &c.w, jdt);
                 self.stats.proximity += 1;
                 self.stats
                     .count(st, self.canopy_nodes, self.structure_nodes());
@@ -385,8 +494,9 @@ impl Contacts {
     fn detect(&self, candidates: &Candidates, dx: &[f64]) -> Vec<Hit> {
         let x = &self.start;
         let eta = IMPACT_FRACTION * self.repulsion.thickness;
+        let sweep = Sweep::new(x, dx);
         filter_map(&candidates.pairs, |(st, before)| {
-            if before.distance() - st.reach(dx) > eta {
+            if before.distance() - sweep.reach(st) > eta {
                 return None;
             }
             let s = st.impact(x, dx, eta)?;
@@ -446,7 +556,16 @@ impl Contacts {
                 ));
             }
             for zone in zones.groups() {
+                let carrier = zone.iter().find_map(|&n| self.carrier(n));
+                let before = carrier.map(|k| self.zone_momentum(&zone, k, dx, mass));
                 zones::rigidify(&zone, &self.start, dx, mass, inv_mass);
+                if let (Some(k), Some((lin, ang))) = (carrier, before) {
+                    // The zone moves with the body: the body takes what the
+                    // zone's free nodes gained.
+                    let (lin1, ang1) = self.zone_momentum(&zone, k, dx, mass);
+                    self.momenta[k].0 -= lin1 - lin;
+                    self.momenta[k].1 -= ang1 - ang;
+                }
             }
             candidates = self.current(candidates, dx);
             hits = self.detect(&candidates, dx);
@@ -470,15 +589,4 @@ fn padded(a: &[f64], len: usize) -> std::borrow::Cow<'_, [f64]> {
         v.resize(len, 0.0);
         v.into()
     }
-}
-
-/// Whether the features' boxes over the step, each grown by `reach`, overlap.
-fn features_near(st: &Stencil, x: &[f64], dx: &[f64], reach: f64) -> bool {
-    let split = match st.kind {
-        Kind::PointTriangle => 1,
-        Kind::EdgeEdge => 2,
-    };
-    let (alo, ahi) = tree::swept_box(&st.nodes[..split], x, dx, reach);
-    let (blo, bhi) = tree::swept_box(&st.nodes[split..], x, dx, reach);
-    (0..3).all(|c| alo[c] <= bhi[c] && blo[c] <= ahi[c])
 }

@@ -21,6 +21,8 @@ pub struct Surface {
     pub nodes: Vec<[usize; 3]>,
     /// How many of the primitives are triangles.
     pub triangles: usize,
+    /// The bodies' triangles are the primitives from here to `triangles`.
+    bodies_from: usize,
     /// Points each primitive owns: `points[point_start[p]..point_start[p + 1]]`.
     points: Vec<usize>,
     point_start: Vec<usize>,
@@ -59,6 +61,7 @@ impl Surface {
         let mut surface = Surface {
             nodes,
             triangles,
+            bodies_from: net.triangles.len(),
             ..Surface::default()
         };
         let fixed_nodes = fixed.iter().flatten().map(|&n| n + 1).max().unwrap_or(0);
@@ -76,6 +79,12 @@ impl Surface {
 
     pub fn is_triangle(&self, p: usize) -> bool {
         p < self.triangles
+    }
+
+    /// Whether primitive p is a body's: two of them never need a test (no
+    /// impulse moves a body's points).
+    pub fn is_body(&self, p: usize) -> bool {
+        (self.bodies_from..self.triangles).contains(&p)
     }
 
     /// The nodes of primitive p: three or two.
@@ -121,8 +130,10 @@ impl Surface {
         &self.edges[self.edge_start[p]..self.edge_start[p + 1]]
     }
 
-    /// The elementary tests the primitive pair p, q (p ≠ q) brings, appended to `out`.
-    pub fn stencils(&self, p: usize, q: usize, out: &mut Vec<Stencil>) {
+    /// The elementary tests the primitive pair p, q (p ≠ q) brings, each
+    /// given to `visit`.
+    #[inline]
+    pub fn each_stencil(&self, p: usize, q: usize, mut visit: impl FnMut(Stencil)) {
         for (a, b) in [(p, q), (q, p)] {
             if !self.is_triangle(b) {
                 continue;
@@ -130,7 +141,7 @@ impl Surface {
             let [t0, t1, t2] = self.nodes[b];
             for &n in self.owned_points(a) {
                 if n != t0 && n != t1 && n != t2 {
-                    out.push(Stencil {
+                    visit(Stencil {
                         kind: Kind::PointTriangle,
                         nodes: [n, t0, t1, t2],
                     });
@@ -140,7 +151,7 @@ impl Surface {
         for &[a0, a1] in self.owned_edges(p) {
             for &[b0, b1] in self.owned_edges(q) {
                 if a0 != b0 && a0 != b1 && a1 != b0 && a1 != b1 {
-                    out.push(Stencil {
+                    visit(Stencil {
                         kind: Kind::EdgeEdge,
                         nodes: [a0, a1, b0, b1],
                     });

@@ -21,6 +21,7 @@
 
 use super::geometry::V3;
 use super::surface::Surface;
+use super::sweep::Sweep;
 use rayon::prelude::*;
 
 /// Subtrees with more leaves than this split their work between two threads.
@@ -88,6 +89,8 @@ pub struct Tree {
     /// Whether a node's primitives are triangles that form one connected
     /// piece through shared nodes.
     connected: Vec<bool>,
+    /// Whether a node's primitives are all bodies' (no pair among them is tested).
+    inert: Vec<bool>,
     lo: Vec<V3>,
     hi: Vec<V3>,
     facing: Vec<Facing>,
@@ -96,13 +99,13 @@ pub struct Tree {
 }
 
 impl Tree {
-    /// Fit the boxes and facings to the step from `x` to `x + dx`, with the
-    /// boxes grown by `reach` [m]; build the tree first if it has none yet or it
-    /// has degraded.
-    pub fn refit(&mut self, s: &Surface, x: &[f64], dx: &[f64], reach: f64) {
+    /// Fit the boxes and facings to the step from `x` to `x + dx` (whose
+    /// paths are `sweep`), with the boxes grown by `reach` [m]; build the
+    /// tree first if it has none yet or it has degraded.
+    pub fn refit(&mut self, s: &Surface, x: &[f64], dx: &[f64], sweep: &Sweep, reach: f64) {
         let leaf = |p: usize| {
             (
-                swept_box(s.vertices(p), x, dx, reach),
+                sweep.feature_box_v3(s.vertices(p), reach),
                 leaf_facing(s, p, x, dx),
             )
         };
@@ -147,6 +150,7 @@ impl Tree {
         self.nodes = Vec::with_capacity(n);
         self.leaves = Vec::with_capacity(n);
         self.connected = Vec::with_capacity(n);
+        self.inert = Vec::with_capacity(n);
         let mut prims: Vec<usize> = (0..s.len()).collect();
         if !prims.is_empty() {
             self.split(s, boxes, &mut prims);
@@ -162,6 +166,7 @@ impl Tree {
         let me = self.nodes.len();
         self.leaves.push(prims.len());
         self.connected.push(is_connected(s, prims));
+        self.inert.push(prims.iter().all(|&p| s.is_body(p)));
         if let [p] = prims {
             self.nodes.push(Node::Leaf(*p));
             return;
@@ -195,9 +200,27 @@ impl Tree {
         self.self_pairs(0)
     }
 
-    /// Whether node n's region cannot meet itself.
+    /// The primitives whose boxes overlap the box `lo`–`hi`, in the
+    /// tree's order, appended to `out`.
+    pub fn overlapping(&self, lo: &V3, hi: &V3, out: &mut Vec<usize>) {
+        let mut stack = Vec::with_capacity(64);
+        if !self.nodes.is_empty() {
+            stack.push(0);
+        }
+        while let Some(n) = stack.pop() {
+            if !(0..3).all(|c| self.lo[n][c] <= hi[c] && lo[c] <= self.hi[n][c]) {
+                continue;
+            }
+            match self.nodes[n] {
+                Node::Leaf(p) => out.push(p),
+                Node::Inner(l, r) => stack.extend([r, l]),
+            }
+        }
+    }
+
+    /// Whether node n's region cannot meet itself, or is all bodies'.
     fn smooth(&self, n: usize) -> bool {
-        self.connected[n] && self.facing[n] != FACING_NOWHERE
+        self.inert[n] || (self.connected[n] && self.facing[n] != FACING_NOWHERE)
     }
 
     fn self_pairs(&self, n: usize) -> Vec<(usize, usize)> {
@@ -228,7 +251,7 @@ impl Tree {
     fn cross(&self, a: usize, b: usize, out: &mut Vec<(usize, usize)>) {
         let overlap =
             (0..3).all(|c| self.lo[a][c] <= self.hi[b][c] && self.lo[b][c] <= self.hi[a][c]);
-        if !overlap {
+        if !overlap || (self.inert[a] && self.inert[b]) {
             return;
         }
         match (self.nodes[a], self.nodes[b]) {
@@ -252,20 +275,6 @@ impl Tree {
             }
         }
     }
-}
-
-/// The box of `nodes` at `x` and at `x + dx`, grown by `grow`.
-pub(super) fn swept_box(nodes: &[usize], x: &[f64], dx: &[f64], grow: f64) -> (V3, V3) {
-    let mut lo = V3::repeat(f64::INFINITY);
-    let mut hi = V3::repeat(f64::NEG_INFINITY);
-    for &n in nodes {
-        for c in 0..3 {
-            let (a, b) = (x[3 * n + c], x[3 * n + c] + dx[3 * n + c]);
-            lo[c] = lo[c].min(a.min(b));
-            hi[c] = hi[c].max(a.max(b));
-        }
-    }
-    (lo.add_scalar(-grow), hi.add_scalar(grow))
 }
 
 /// The directions a triangle faces at both the step's start and end;
@@ -322,7 +331,7 @@ mod tests {
         let s = Surface::of(&net);
         let mut t = Tree::default();
         let dx = vec![0.0; m.points.len()];
-        t.refit(&s, &m.points, &dx, 1e-3);
+        t.refit(&s, &m.points, &dx, &Sweep::new(&m.points, &dx), 1e-3);
         assert!(t.pairs().is_empty(), "{} pairs", t.pairs().len());
     }
 }
