@@ -270,13 +270,19 @@ impl Contacts {
         let structure = self.nodes;
         for (k, c) in self.bodies.carried.iter().enumerate() {
             let body = &bodies[c.body];
+            // About where the centre is now, not where it was placed.
+            let (v, omega, centre) = (
+                body.state.v,
+                body.world_angular_velocity(),
+                self.centres[k].0,
+            );
             for i in 0..c.own.len() {
                 let at = 3 * (c.first - structure + i);
                 let p = V3::from_column_slice(&self.bodies.points[at..at + 3]);
-                let d = body.velocity_at(&p) * dt;
+                let d = (v + omega.cross(&(p - centre))) * dt;
                 self.carried_dx[at..at + 3].copy_from_slice(d.as_slice());
             }
-            self.centres[k].1 = body.state.v * dt;
+            self.centres[k].1 = v * dt;
         }
     }
 
