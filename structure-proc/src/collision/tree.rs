@@ -151,14 +151,47 @@ impl Tree {
         self.leaves = Vec::with_capacity(n);
         self.connected = Vec::with_capacity(n);
         self.inert = Vec::with_capacity(n);
-        let mut prims: Vec<usize> = (0..s.len()).collect();
-        if !prims.is_empty() {
-            self.split(s, boxes, &mut prims);
+        // The fabric, the bodies and the strings each get a subtree of their
+        // own under the root, so that strings (which face nowhere) and bodies
+        // never spoil a fabric region's hemisphere test.
+        let kind = |p: usize| match (s.is_triangle(p), s.is_body(p)) {
+            (true, false) => 0,
+            (true, true) => 1,
+            (false, _) => 2,
+        };
+        let mut groups: Vec<Vec<usize>> = (0..3)
+            .map(|k| (0..s.len()).filter(|&p| kind(p) == k).collect())
+            .filter(|g: &Vec<usize>| !g.is_empty())
+            .collect();
+        if !groups.is_empty() {
+            self.join(s, boxes, &mut groups);
         }
         let m = self.nodes.len();
         self.lo = vec![V3::zeros(); m];
         self.hi = vec![V3::zeros(); m];
         self.facing = vec![FACING_NOWHERE; m];
+    }
+
+    /// Add a subtree with one subtree below for each of `groups`.
+    fn join(&mut self, s: &Surface, boxes: &[(V3, V3)], groups: &mut [Vec<usize>]) {
+        let [first, rest @ ..] = groups else {
+            return;
+        };
+        if rest.is_empty() {
+            return self.split(s, boxes, first);
+        }
+        let me = self.nodes.len();
+        let all: Vec<usize> = groups.iter().flatten().copied().collect();
+        self.leaves.push(all.len());
+        self.connected.push(is_connected(s, &all));
+        self.inert.push(all.iter().all(|&p| s.is_body(p)));
+        self.nodes.push(Node::Leaf(usize::MAX));
+        let (first, rest) = groups.split_at_mut(1);
+        let l = self.nodes.len();
+        self.split(s, boxes, &mut first[0]);
+        let r = self.nodes.len();
+        self.join(s, boxes, rest);
+        self.nodes[me] = Node::Inner(l, r);
     }
 
     /// Add the subtree over `prims`.
