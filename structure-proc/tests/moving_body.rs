@@ -35,7 +35,6 @@ fn lift(surfaces: bool) -> Lift {
         integrator = "velocity-verlet"
         [collision]
         thickness = 1e-3
-        moving_body_surfaces = true
         [cloth]
         width = 0.6
         depth = 0.6

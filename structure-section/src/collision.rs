@@ -37,11 +37,11 @@ pub struct Collision {
     #[serde(default)]
     pub repulsion_stiffness: Option<f64>,
     /// Whether moving shaped bodies' surfaces (faceted, 24 segments round)
-    /// join the contact pass as static bodies' do, their edges and faces
-    /// against the structure's, each body taking the reaction. Off by
-    /// default: a round body then meets the fabric by facets rather than by
-    /// its exact normals, which changes how balls roll in a cloth.
-    #[serde(default)]
+    /// join the contact pass as static bodies' do: their edges and faces
+    /// against the structure's, pushing along the body's true normal, each
+    /// body taking the reaction. False leaves moving bodies to the node
+    /// test alone.
+    #[serde(default = "yes")]
     pub moving_body_surfaces: bool,
 }
 
@@ -53,7 +53,7 @@ impl Default for Collision {
             self_contact: true,
             friction: 0.0,
             repulsion_stiffness: None,
-            moving_body_surfaces: false,
+            moving_body_surfaces: true,
         }
     }
 }

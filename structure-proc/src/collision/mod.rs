@@ -421,6 +421,34 @@ impl Contacts {
         }
     }
 
+    /// The true outward normal of the moving body that takes part in `st`
+    /// (weights `w`, nodes at `p`, a fraction `s` of the step done) where
+    /// its feature's nearest point lies, pointing from the pair's second
+    /// feature to its first as separations do; None if no moving body
+    /// takes part. The facets find the contact; the body's shape says
+    /// which way it pushes, so a round body pushes radially.
+    fn body_normal(&self, st: &Stencil, w: &[f64; 4], p: &[V3; 4], s: f64) -> Option<V3> {
+        let (first, _) = st.features();
+        let mut found = None;
+        let (mut weight, mut at) = (0.0, V3::zeros());
+        for i in 0..4 {
+            if let Some(k) = self.carrier(st.nodes[i]) {
+                found = Some((k, i < first.len()));
+                weight += w[i];
+                at += p[i] * w[i];
+            }
+        }
+        let (k, body_first) = found?;
+        if weight == 0.0 {
+            return None;
+        }
+        let (pose, placed) = &self.placed[k];
+        let centre = self.centres[k].0 + self.centres[k].1 * s;
+        let (_, outward) =
+            self.bodies.carried[k].surface_at(pose, &(at / weight - (centre - placed)));
+        Some(if body_first { -outward } else { outward })
+    }
+
     /// The torque about carried body k's centre of the push `push` on its
     /// faceted surface at `at`: applied at the true surface's nearest point,
     /// along its normal there (all of it when there is friction).
@@ -481,6 +509,15 @@ impl Contacts {
             .iter()
             .filter(|(_, c)| c.distance() < layer)
         {
+            // A moving body pushes along its true normal, not its facet's.
+            let at = st.at(&self.start, dx, 0.0);
+            let c = &match self.body_normal(st, &c.w, &at, 0.0) {
+                Some(n) => geometry::Closest {
+                    w: c.w,
+                    separation: n * c.distance(),
+                },
+                None => *c,
+            };
             if let Some(jdt) = self.repulsion.act(st, c, inv_mass, dx) {
                 self.credit(st, &c.w, jdt);
                 self.stats.proximity += 1;
@@ -511,6 +548,14 @@ impl Contacts {
             let start = st.at(x, dx, 0.0);
             let before: V3 = (0..4).map(|i| start[i] * touch.w[i]).sum();
             let rel = impulse::relative(st, &touch.w, dx);
+            if let Some(normal) = self.body_normal(st, &touch.w, &at, s) {
+                // A moving body stops the feature along its true normal.
+                return Some(Hit {
+                    stencil: *st,
+                    w: touch.w,
+                    normal,
+                });
+            }
             let normal = st
                 .plane_normal(&at)
                 .try_normalize(1e-300)
