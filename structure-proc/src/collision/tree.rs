@@ -36,28 +36,39 @@ enum Node {
     Inner(usize, usize),
 }
 
-/// Which of the [`DIRECTIONS`] every normal of a region, at the step's
-/// start and end, has a positive component along: bit k for direction k.
-/// A region with any bit set has all its normals in one open hemisphere (a
-/// normal cone narrower than π/2, tested against fixed axes, so that no
-/// square root is taken and two regions merge by a bitwise and). Its cone
-/// is caught when its axis lies within 90° minus its half-angle of one of
-/// the 26 directions of the cube's faces, edges and corners, which are at
-/// most 27.6° from any axis: every region
-/// whose normals lie within 62° of one axis is.
+/// Which of 26 fixed directions every normal of a region, at the step's
+/// start and end, lies within 90° − [`FACING_MARGIN`] of: bit k for
+/// direction k. A region with any bit set has all its normals in one open
+/// hemisphere with room to spare (tested against fixed axes, so that two
+/// regions merge by a bitwise and). Its cone is caught when its axis lies
+/// within 75° minus its half-angle of one of the 26 directions of the
+/// cube's faces, edges and corners, which are at most 27.6° from any axis:
+/// every region whose normals lie within 47° of one axis is.
 type Facing = u32;
+
+/// How far past perpendicular a normal must point along a direction to
+/// count as facing it [rad]: a region judged smooth stays in one
+/// hemisphere while its normals turn by less than this after the test
+/// (impulses within the margin), and two triangles folded onto each other
+/// more sharply than 2 × 15° are never culled, whatever their tilt.
+const FACING_MARGIN: f64 = 15.0 * std::f64::consts::PI / 180.0;
 
 /// No direction: strings, degenerate or flipping triangles.
 const FACING_NOWHERE: Facing = 0;
 
-/// The directions along which the normal `n` (any length) is positive:
-/// the 13 directions (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, ±1, 0),
-/// (1, 0, ±1), (0, 1, ±1), (1, ±1, ±1) in bits 0–12 and their opposites
-/// in bits 13–25; the components along them are sums of n's, so no
-/// product is needed.
+/// The directions the normal `n` (any length) faces by more than
+/// [`FACING_MARGIN`]: the 13 directions (1, 0, 0), (0, 1, 0), (0, 0, 1),
+/// (1, ±1, 0), (1, 0, ±1), (0, 1, ±1), (1, ±1, ±1) in bits 0–12 and their
+/// opposites in bits 13–25; the components along them are sums of n's,
+/// compared with sin(margin)·|n|·|direction|.
 #[inline(always)]
 fn facing(n: &V3) -> Facing {
     let (x, y, z) = (n.x, n.y, n.z);
+    let unit = FACING_MARGIN.sin() * n.norm();
+    let (two, three) = (unit * std::f64::consts::SQRT_2, unit * 3f64.sqrt());
+    let least = [
+        unit, unit, unit, two, two, two, two, two, two, three, three, three, three,
+    ];
     let along = [
         x,
         y,
@@ -74,8 +85,8 @@ fn facing(n: &V3) -> Facing {
         x - y - z,
     ];
     let mut bits = 0;
-    for (k, v) in along.iter().enumerate() {
-        bits |= ((*v > 0.0) as Facing) << k | ((*v < 0.0) as Facing) << (k + 13);
+    for (k, (v, t)) in along.iter().zip(least).enumerate() {
+        bits |= ((*v > t) as Facing) << k | ((*v < -t) as Facing) << (k + 13);
     }
     bits
 }
@@ -350,6 +361,27 @@ fn is_connected(s: &Surface, prims: &[usize]) -> bool {
 mod tests {
     use super::*;
     use crate::network::Network;
+
+    #[test]
+    fn two_triangles_folded_onto_each_other_are_tested() {
+        // A = (s0, a, s1) and B = (s0, s1, b) share the edge s0 s1 along y;
+        // B is folded back over A to 0.07 above it. Their normals,
+        // (0.02, 0, 1) and (0.05, 0, −1), both lean along +x: without a
+        // margin they would count as facing one hemisphere and the pair
+        // would be skipped, though b lies within the layer of A.
+        let x = [0., 0., 0., 1., 0., -0.02, 0., 1., 0., 1., 0., 0.05];
+        let net = Network {
+            mass: vec![1.0; 4],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            canopy_nodes: 4,
+            ..Network::default()
+        };
+        let s = Surface::of(&net);
+        let mut t = Tree::default();
+        let dx = vec![0.0; x.len()];
+        t.refit(&s, &x, &dx, &Sweep::new(&x, &dx), 0.1);
+        assert_eq!(t.pairs(), vec![(0, 1)]);
+    }
 
     #[test]
     fn a_flat_sheet_needs_no_pair_test() {
