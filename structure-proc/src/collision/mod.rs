@@ -1,7 +1,8 @@
 //! Collisions of the structure (the dissertation §2.5 and §3.4, after
 //! Bridson, Fedkiw & Anderson 2002): the fabric and the strings against
-//! themselves and each other ([`Contacts`]), and free nodes against the
-//! rigid bodies' shapes ([`Obstacles`], `bodies.rs`).
+//! themselves, each other and the shaped bodies' surfaces ([`Contacts`];
+//! moving bodies in `carried.rs`), and free nodes against the rigid bodies'
+//! shapes ([`Obstacles`], `bodies.rs`).
 //!
 //! [`Contacts::resolve`] follows the dissertation's summary of §2.5 after
 //! each structure step that proposed positions x^can from x^n:
@@ -19,12 +20,14 @@
 //!    nodes the pass moved; the others keep x^can and v^can bit for bit.
 //!
 //! The candidates come from an AABB tree over triangles and segments with
-//! normal-hemisphere culling (`tree.rs`), found in parallel; the impulses are
+//! normal-hemisphere culling (`tree.rs`), found in parallel and kept up to
+//! date node by node as impulses move nodes (`candidates.rs`); the impulses are
 //! applied one pair at a time in an order fixed by the tree, so a run is
 //! the same on any number of threads.
 
 mod bodies;
 mod candidates;
+mod carried;
 pub mod geometry;
 mod impulse;
 pub mod intersections;
@@ -45,7 +48,6 @@ use candidates::Candidates;
 use geometry::V3;
 use impulse::Repulsion;
 use rayon::prelude::*;
-use rigid_proc::body::Body;
 use structure_section::Collision;
 use sweep::Sweep;
 use tree::Tree;
@@ -246,58 +248,6 @@ impl Contacts {
         self.start.extend_from_slice(&self.bodies.points);
     }
 
-    /// Put the moving bodies' surfaces where `bodies` (every `[rigid]` body,
-    /// in order, as the rigid solver sends them) are.
-    pub fn place_bodies(&mut self, bodies: &[Body]) {
-        let structure = self.nodes;
-        for (k, c) in self.bodies.carried.iter().enumerate() {
-            let body = &bodies[c.body];
-            let pose = body.own_pose();
-            for (i, p) in c.own.iter().enumerate() {
-                let at = 3 * (c.first - structure + i);
-                self.bodies.points[at..at + 3].copy_from_slice((pose * p).coords.as_slice());
-            }
-            self.centres[k].0 = body.state.x;
-            self.placed[k] = (body.shape_pose(), body.state.x);
-        }
-    }
-
-    /// Let the moving bodies carry their surfaces over the coming step of
-    /// `dt` with `bodies`' velocities: each point by v + ω × r over the step
-    /// (the body taken as moving rigidly, too heavy for one impulse to turn
-    /// within the step; it takes the momentum afterwards).
-    pub fn move_bodies(&mut self, bodies: &[Body], dt: f64) {
-        let structure = self.nodes;
-        for (k, c) in self.bodies.carried.iter().enumerate() {
-            let body = &bodies[c.body];
-            // About where the centre is now, not where it was placed.
-            let (v, omega, centre) = (
-                body.state.v,
-                body.world_angular_velocity(),
-                self.centres[k].0,
-            );
-            for i in 0..c.own.len() {
-                let at = 3 * (c.first - structure + i);
-                let p = V3::from_column_slice(&self.bodies.points[at..at + 3]);
-                let d = (v + omega.cross(&(p - centre))) * dt;
-                self.carried_dx[at..at + 3].copy_from_slice(d.as_slice());
-            }
-            self.centres[k].1 = v * dt;
-        }
-    }
-
-    /// The momentum each moving body took in the last [`Contacts::resolve`]:
-    /// its place in `[rigid]`, the linear and the angular momentum about its
-    /// centre [N·s, N·m·s], world axes. The structure's nodes took the
-    /// opposite.
-    pub fn body_momenta(&self) -> impl Iterator<Item = (usize, V3, V3)> + '_ {
-        self.bodies
-            .carried
-            .iter()
-            .zip(&self.momenta)
-            .map(|(c, (lin, ang))| (c.body, *lin, *ang))
-    }
-
     /// Resolve the contacts of the step of `dt` that took the nodes from
     /// the positions given to [`Contacts::begin_step`] to `x`, `v`: the
     /// nodes it moves get new positions and velocities. Nodes with
@@ -368,129 +318,6 @@ impl Contacts {
     /// How many of the nodes are the structure's (the bodies' points follow).
     fn structure_nodes(&self) -> usize {
         self.nodes
-    }
-
-    /// The moving body that carries node `n`, by its place in
-    /// [`BodySurfaces::carried`], if any.
-    fn carrier(&self, n: usize) -> Option<usize> {
-        if n < self.nodes {
-            return None;
-        }
-        self.bodies
-            .carried
-            .iter()
-            .position(|c| (c.first..c.first + c.own.len()).contains(&n))
-    }
-
-    /// Give the moving bodies of `st` the reaction of the impulse
-    /// `jdt`/Δt the pair took with weights `w`: node i took wᵢ·J, so a
-    /// body's points, which no impulse moves, take theirs as the body's
-    /// momentum, and linear momentum is kept. The body's feature is its
-    /// faceted surface; its torque is taken where the true surface is, along
-    /// its true normal (plus the tangential part when there is friction),
-    /// so facets do not spin a frictionless ball.
-    fn credit(&mut self, st: &Stencil, w: &[f64; 4], jdt: V3) {
-        if st.nodes.iter().all(|&n| n < self.nodes) {
-            return;
-        }
-        let j = jdt / self.repulsion.dt;
-        let carriers: Vec<(usize, f64, V3)> = st
-            .nodes
-            .iter()
-            .zip(w)
-            .filter_map(|(&n, &wi)| {
-                let at = V3::from_column_slice(&self.start[3 * n..3 * n + 3]);
-                self.carrier(n).map(|k| (k, wi, at * wi))
-            })
-            .collect();
-        for (i, &(k, _, _)) in carriers.iter().enumerate() {
-            if carriers[..i].iter().any(|c| c.0 == k) {
-                continue;
-            }
-            let (weight, at) = carriers
-                .iter()
-                .filter(|c| c.0 == k)
-                .fold((0.0, V3::zeros()), |(s, a), c| (s + c.1, a + c.2));
-            if weight == 0.0 {
-                continue;
-            }
-            let push = j * weight;
-            let torque = self.torque(k, &(at / weight), &push);
-            self.momenta[k].0 += push;
-            self.momenta[k].1 += torque;
-        }
-    }
-
-    /// The true outward normal of the moving body that takes part in `st`
-    /// (weights `w`, nodes at `p`, a fraction `s` of the step done) where
-    /// its feature's nearest point lies, pointing from the pair's second
-    /// feature to its first as separations do; None if no moving body
-    /// takes part. The facets find the contact; the body's shape says
-    /// which way it pushes, so a round body pushes radially.
-    fn body_normal(&self, st: &Stencil, w: &[f64; 4], p: &[V3; 4], s: f64) -> Option<V3> {
-        let (first, _) = st.features();
-        let mut found = None;
-        let (mut weight, mut at) = (0.0, V3::zeros());
-        for i in 0..4 {
-            if let Some(k) = self.carrier(st.nodes[i]) {
-                found = Some((k, i < first.len()));
-                weight += w[i];
-                at += p[i] * w[i];
-            }
-        }
-        let (k, body_first) = found?;
-        if weight == 0.0 {
-            return None;
-        }
-        let (pose, placed) = &self.placed[k];
-        let centre = self.centres[k].0 + self.centres[k].1 * s;
-        let (_, outward) =
-            self.bodies.carried[k].surface_at(pose, &(at / weight - (centre - placed)));
-        Some(if body_first { -outward } else { outward })
-    }
-
-    /// The torque about carried body k's centre of the push `push` on its
-    /// faceted surface at `at`: applied at the true surface's nearest point,
-    /// along its normal there (all of it when there is friction).
-    fn torque(&self, k: usize, at: &V3, push: &V3) -> V3 {
-        let carried = &self.bodies.carried[k];
-        let (pose, placed) = &self.placed[k];
-        // The body has moved by this since it was placed.
-        let shift = self.centres[k].0 - placed;
-        let (surface, normal) = carried.surface_at(pose, &(at - shift));
-        let along = if self.repulsion.friction > 0.0 {
-            *push
-        } else {
-            normal * normal.dot(push)
-        };
-        (surface - placed).cross(&along)
-    }
-
-    /// The linear and angular momentum (about carried body k's centre) of
-    /// `zone`'s structure nodes moving by `dx` over the step.
-    fn zone_momentum(&self, zone: &[usize], k: usize, dx: &[f64], mass: &[f64]) -> (V3, V3) {
-        let dt = self.repulsion.dt;
-        let centre = self.centres[k].0;
-        zone.iter().filter(|&&n| n < self.nodes).fold(
-            (V3::zeros(), V3::zeros()),
-            |(lin, ang), &n| {
-                let p = V3::from_column_slice(&dx[3 * n..3 * n + 3]) * (mass[n] / dt);
-                let r = V3::from_column_slice(&self.start[3 * n..3 * n + 3]) - centre;
-                (lin + p, ang + r.cross(&p))
-            },
-        )
-    }
-
-    /// Move the bodies' points and centres to the step's end.
-    fn carry(&mut self) {
-        for (p, d) in self.bodies.points.iter_mut().zip(&mut self.carried_dx) {
-            *p += *d;
-            *d = 0.0;
-        }
-        for (centre, d) in &mut self.centres {
-            *centre += *d;
-            *d = V3::zeros();
-        }
     }
 
     /// How far the boxes reach beyond the features [m]: half the layer,
