@@ -31,13 +31,14 @@ pub fn answer<S: Stepper>(
     answer
         .manifest
         .insert("integrator".into(), section.integrator.name().into());
-    let ((omega, damping), attached) = match scheme_omega_max(&scene, path, text, make) {
+    let ((omega, damping), attached, layer) = match scheme_omega_max(&scene, path, text, make) {
         Ok(w) => w,
         Err(e) => {
             answer.notes.push(format!("stability not estimated: {e}"));
             return Ok(answer);
         }
     };
+    answer.warnings.extend(layer);
     if attached > 0.0 {
         attached_answer(&mut answer, attached, &scene.scenario.coupling);
     }
@@ -68,10 +69,11 @@ fn scheme_omega_max<S: Stepper>(
     path: &Path,
     text: &str,
     make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
-) -> Result<((f64, DampingRate), f64), Error> {
+) -> Result<((f64, DampingRate), f64, Option<String>), Error> {
     let section = &scene.structure;
     let dt = scene.scenario.coupling.structure_dt();
     let m = build_model(section, scene.rigid.as_ref(), dt)?;
+    let layer = layer_warning(section, &m);
     let weights = attachment_weights(scene, path, text)?;
     let nodes: Vec<usize> = m.attachments.iter().map(|a| a.node).collect();
     let attached = attached_omega(&nodes, &weights, &m.couplings);
@@ -85,7 +87,29 @@ fn scheme_omega_max<S: Stepper>(
         .into());
     }
     let damping = damping_rate(&m.net, dt);
-    Ok(((omega_max(&m.inv_mass, &m.couplings), damping), attached))
+    Ok((
+        (omega_max(&m.inv_mass, &m.couplings), damping),
+        attached,
+        layer,
+    ))
+}
+
+/// Why the collision layer is too thick for the fabric's mesh, if it is:
+/// a triangle whose smallest altitude is below `thickness` has a vertex
+/// closer than the layer to its opposite edge, so wherever the pass tests
+/// that region its own neighbouring features repel each other.
+fn layer_warning(section: &StructureSection, m: &Model) -> Option<String> {
+    let spec = section.collision.as_ref().filter(|c| c.self_contact)?;
+    let (k, h) = crate::collision::geometry::smallest_altitude(&m.x, &m.net.triangles)?;
+    (h <= spec.thickness).then(|| {
+        format!(
+            "[structure.collision] thickness = {:e} m is not below the smallest altitude of the \
+             fabric's triangles, {h:.3e} m (triangle {k}, nodes {:?}): where the contact pass \
+             tests that region, neighbouring features of the mesh repel each other; a thinner \
+             layer or a mesh without such slivers avoids it",
+            spec.thickness, m.net.triangles[k]
+        )
+    })
 }
 
 /// Each attachment's effective inverse mass [1/kg], in the order the

@@ -155,3 +155,23 @@ fn two_balls_meet_in_the_cloth_and_bounce_in_it_together() {
     // The cloth crosses itself in no written state.
     assert_no_crossings(&scenario, &out, "canopy", 100);
 }
+
+#[test]
+fn a_layer_thicker_than_the_fabric_s_smallest_altitude_is_warned_of() {
+    // cloth-strings' disk of 16 rings has triangles whose smallest altitude
+    // is 3.2 cm (the centre's): a 5 cm layer would make neighbouring
+    // features repel each other; `coupler check` says so and still accepts
+    // the scene, and the shipped 3 mm layer draws no such warning.
+    let dir = scratch("thick-layer");
+    let thick = variant("cloth-strings", &dir, |s| {
+        let st = s.structure.as_mut().unwrap();
+        st.collision.as_mut().unwrap().thickness = 0.05;
+    });
+    let warned = |path: &std::path::Path| {
+        let o = coupler(&["check", path.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(0));
+        String::from_utf8_lossy(&o.stderr).contains("is not below the smallest altitude")
+    };
+    assert!(warned(&thick));
+    assert!(!warned(&scenario_path("cloth-strings")));
+}

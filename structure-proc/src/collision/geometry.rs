@@ -118,6 +118,31 @@ fn edge_edge_weights(p: &[V3; 4]) -> [f64; 4] {
     [1.0 - s, s, t - 1.0, -t]
 }
 
+/// The triangle of `triangles` (over the nodes at `x`) with the smallest
+/// altitude, and that altitude [m]: twice its area over its longest edge.
+pub fn smallest_altitude(x: &[f64], triangles: &[[usize; 3]]) -> Option<(usize, f64)> {
+    let at = |n: usize| V3::new(x[3 * n], x[3 * n + 1], x[3 * n + 2]);
+    triangles
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let [a, b, c] = t.map(at);
+            let longest = [(b - a).norm(), (c - b).norm(), (a - c).norm()]
+                .into_iter()
+                .fold(0.0, f64::max);
+            let twice_area = (b - a).cross(&(c - a)).norm();
+            (
+                k,
+                if longest > 0.0 {
+                    twice_area / longest
+                } else {
+                    0.0
+                },
+            )
+        })
+        .min_by(|p, q| p.1.total_cmp(&q.1))
+}
+
 /// The coefficients c₀ … c₃ of (a(s) × b(s)) · c(s) for vectors moving as
 /// v(s) = v₀ + s·dv.
 fn triple_product_cubic(v0: [V3; 3], dv: [V3; 3]) -> [f64; 4] {
@@ -239,6 +264,21 @@ fn quadratic_roots_in_unit(a: f64, b: f64, c: f64) -> Times {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_smallest_altitude_is_twice_the_area_over_the_longest_edge() {
+        // A 3-4-5 right triangle: altitude to the hypotenuse 3·4/5 = 2.4;
+        // a 1 × 0.1 sliver: 0.1 (its long edge is √1.01, so 0.1/√1.01).
+        let x = [
+            0., 0., 0., 3., 0., 0., 0., 4., 0., 10., 0., 0., 11., 0., 0., 10., 0.1, 0.,
+        ];
+        let (k, h) = smallest_altitude(&x, &[[0, 1, 2]]).unwrap();
+        assert_eq!(k, 0);
+        assert!((h - 2.4).abs() < 1e-15, "{h}");
+        let (k, h) = smallest_altitude(&x, &[[0, 1, 2], [3, 4, 5]]).unwrap();
+        assert_eq!(k, 1);
+        assert!((h - 0.1 / 1.01f64.sqrt()).abs() < 1e-15, "{h}");
+    }
 
     #[test]
     fn cubic_roots_are_found_to_round_off() {
