@@ -114,26 +114,25 @@ impl Contacts {
     }
 
     /// The true outward normal of the moving body that takes part in `st`
-    /// (weights `w`, nodes at `p`, a fraction `s` of the step done) where
+    /// (weights `w`, nodes moved by `s`·`dx` from the step's start) where
     /// its feature's nearest point lies, pointing from the pair's second
     /// feature to its first as separations do; None if no moving body
     /// takes part. The facets find the contact; the body's shape says
     /// which way it pushes, so a round body pushes radially.
-    pub(super) fn body_normal(
-        &self,
-        st: &Stencil,
-        w: &[f64; 4],
-        p: &[V3; 4],
-        s: f64,
-    ) -> Option<V3> {
+    pub(super) fn body_normal(&self, st: &Stencil, w: &[f64; 4], dx: &[f64], s: f64) -> Option<V3> {
+        if st.nodes.iter().all(|&n| n < self.nodes) {
+            return None;
+        }
         let (first, _) = st.features();
         let mut found = None;
         let (mut weight, mut at) = (0.0, V3::zeros());
-        for i in 0..4 {
-            if let Some(k) = self.carrier(st.nodes[i]) {
+        for (i, &n) in st.nodes.iter().enumerate() {
+            if let Some(k) = self.carrier(n) {
                 found = Some((k, i < first.len()));
+                let x = V3::from_column_slice(&self.start[3 * n..3 * n + 3]);
+                let d = V3::from_column_slice(&dx[3 * n..3 * n + 3]);
                 weight += w[i];
-                at += p[i] * w[i];
+                at += (x + d * s) * w[i];
             }
         }
         let (k, body_first) = found?;

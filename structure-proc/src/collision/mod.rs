@@ -99,11 +99,11 @@ pub struct Stats {
     pub fabric_fabric: u64,
     pub fabric_string: u64,
     pub string_string: u64,
-    /// Impulses between the structure and a static body's surface.
+    /// Impulses between the structure and a body's surface.
     #[serde(default)]
     pub structure_body: u64,
     /// Momentum the pass gave the structure's free nodes from outside them
-    /// so far [N·s]: static bodies' pushes, and zones that moved with a
+    /// so far [N·s]: bodies' pushes, and zones that moved with a
     /// held node (self-contact impulses cancel).
     #[serde(default)]
     pub received: [f64; 3],
@@ -111,7 +111,7 @@ pub struct Stats {
 
 impl Stats {
     /// Count an impulse on `st`, whose nodes from `canopy_nodes` on are
-    /// strings', and from `structure_nodes` on static bodies'.
+    /// strings', and from `structure_nodes` on the bodies'.
     fn count(&mut self, st: &Stencil, canopy_nodes: usize, structure_nodes: usize) {
         if st.nodes.iter().any(|&n| n >= structure_nodes) {
             self.structure_body += 1;
@@ -272,7 +272,7 @@ impl Contacts {
         let (mass, inv_mass) = (padded(mass, nodes), padded(inv_mass, nodes));
         let (mass, inv_mass) = (&mass[..], &inv_mass[..]);
         let mut dx = proposed.clone();
-        let structure_nodes = self.structure_nodes();
+        let structure_nodes = self.nodes;
         let mut candidates = self.refreshed(&dx);
         if self.proximity(&candidates, inv_mass, &mut dx) {
             candidates = self.current(candidates, &dx);
@@ -315,11 +315,6 @@ impl Contacts {
         Ok(())
     }
 
-    /// How many of the nodes are the structure's (the bodies' points follow).
-    fn structure_nodes(&self) -> usize {
-        self.nodes
-    }
-
     /// How far the boxes reach beyond the features [m]: half the layer,
     /// and the margin within which impulses may move a path before the
     /// candidates must be found again.
@@ -337,8 +332,7 @@ impl Contacts {
             .filter(|(_, c)| c.distance() < layer)
         {
             // A moving body pushes along its true normal, not its facet's.
-            let at = st.at(&self.start, dx, 0.0);
-            let c = &match self.body_normal(st, &c.w, &at, 0.0) {
+            let c = &match self.body_normal(st, &c.w, dx, 0.0) {
                 Some(n) => geometry::Closest {
                     w: c.w,
                     separation: n * c.distance(),
@@ -348,8 +342,7 @@ impl Contacts {
             if let Some(jdt) = self.repulsion.act(st, c, inv_mass, dx) {
                 self.credit(st, &c.w, jdt);
                 self.stats.proximity += 1;
-                self.stats
-                    .count(st, self.canopy_nodes, self.structure_nodes());
+                self.stats.count(st, self.canopy_nodes, self.nodes);
                 acted = true;
             }
         }
@@ -375,7 +368,7 @@ impl Contacts {
             let start = st.at(x, dx, 0.0);
             let before: V3 = (0..4).map(|i| start[i] * touch.w[i]).sum();
             let rel = impulse::relative(st, &touch.w, dx);
-            if let Some(normal) = self.body_normal(st, &touch.w, &at, s) {
+            if let Some(normal) = self.body_normal(st, &touch.w, dx, s) {
                 // A moving body stops the feature along its true normal.
                 return Some(Hit {
                     stencil: *st,

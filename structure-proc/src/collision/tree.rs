@@ -192,10 +192,12 @@ impl Tree {
             return self.split(s, boxes, first);
         }
         let me = self.nodes.len();
-        let all: Vec<usize> = groups.iter().flatten().copied().collect();
-        self.leaves.push(all.len());
-        self.connected.push(is_connected(s, &all));
-        self.inert.push(all.iter().all(|&p| s.is_body(p)));
+        self.leaves.push(groups.iter().map(Vec::len).sum());
+        // Groups of different kinds: fabric and bodies share no node and
+        // segments are no triangles, so the union is never one connected
+        // piece, and at most one group is the bodies'.
+        self.connected.push(false);
+        self.inert.push(false);
         self.nodes.push(Node::Leaf(usize::MAX));
         let (first, rest) = groups.split_at_mut(1);
         let l = self.nodes.len();
