@@ -66,3 +66,24 @@ pub fn rectangle(width: f64, depth: f64, nx: usize, ny: usize, origin: [f64; 3])
         ny,
     }
 }
+
+impl RectangleMesh {
+    /// The nodes folded along x like an accordion into pleats `cells` cells
+    /// wide, stacked `gap` apart in z (the crumpled cloth of the collision
+    /// tests and benchmark: every node has the pleats beside it `gap` away).
+    pub fn pleated(&self, cells: usize, gap: f64) -> Vec<f64> {
+        let h = self.points[3] - self.points[0];
+        let mut x = self.points.clone();
+        for k in 0..self.nx * self.ny {
+            let u = k % self.nx;
+            let (pleat, s) = (u / cells, (u % cells) as f64 * h);
+            x[3 * k] = if pleat % 2 == 0 {
+                s
+            } else {
+                cells as f64 * h - s
+            };
+            x[3 * k + 2] = pleat as f64 * gap;
+        }
+        x
+    }
+}

@@ -263,6 +263,53 @@ fn a_string_sliding_on_a_fixed_triangle_feels_repulsion_and_coulomb_friction() {
     assert_eq!(contacts.stats.proximity, 2);
 }
 
+#[test]
+fn a_resting_pair_deep_in_the_layer_is_moved_out_without_a_velocity() {
+    // A free string at rest over a fixed triangle, inside the 1 mm layer:
+    // there is no approach to stop, so eq. 3.30's repulsion
+    // Δxₙ = min(Δt²·k·d/m, 0.1·d) (= 0.1·d with this k) moves it out by
+    // positions alone when it lies deeper than half the layer, and its
+    // velocity stays zero; in the layer's outer half it is left as it is
+    // (Bridson et al. 2002, §7.2; `PUSH_WITHIN`).
+    let layer = Collision::default().thickness;
+    for (z, moved) in [(0.2 * layer, true), (0.6 * layer, false)] {
+        let x0 = vec![
+            -1.0, -1.0, 0.0, 2.0, -1.0, 0.0, -1.0, 2.0, 0.0, // fixed triangle
+            0.0, 0.0, z, 0.05, 0.0, z, // the string
+        ];
+        let net = network(
+            &x0,
+            &[0.0, 0.0, 0.0, 0.01, 0.01],
+            vec![[0, 1, 2]],
+            3,
+            &[(3, 4)],
+        );
+        let spec = Collision {
+            repulsion_stiffness: Some(1e5),
+            ..Collision::default()
+        };
+        let mut contacts = Contacts::new(&net, &spec).unwrap();
+        let (mut x, mut v) = (x0.clone(), vec![0.0; 15]);
+        contacts.begin_step(&x0);
+        contacts
+            .resolve(&mut x, &mut v, &net.mass, &net.inv_mass, 1e-3)
+            .unwrap();
+        let want = if moved { z + 0.1 * (layer - z) } else { z };
+        for node in [3, 4] {
+            assert!(
+                (x[3 * node + 2] - want).abs() < 1e-15,
+                "z = {z}: node {node} at {}, want {want}",
+                x[3 * node + 2]
+            );
+            assert_eq!(
+                &v[3 * node..3 * node + 3],
+                &[0.0; 3],
+                "z = {z}: node {node} moves"
+            );
+        }
+    }
+}
+
 /// One structure step of `dt` without loads, then the contact pass if given.
 fn step(
     m: &mut structure_proc::Model,
@@ -502,4 +549,74 @@ fn a_cloth_draped_over_a_sphere_never_crosses_itself() {
         "{:?}",
         d.stats
     );
+}
+
+#[test]
+fn the_pass_never_raises_the_kinetic_energy_whatever_the_motion() {
+    // A 21 × 21 cloth pleated into layers 0.6 of the layer apart, every
+    // node in proximity with the layers beside it, sliding along the folds
+    // by a tenth of the layer in the step and moving at random by up to a
+    // fiftieth (folds pressed together, pulled apart and rubbing). Every impulse of the pass acts on one pair's relative
+    // motion: an inelastic stop, friction and a repulsion that parts the
+    // pair no faster than it came change the pair's relative displacement
+    // from r to r + c with |r + c| ≤ |r|, and the kinetic energy by
+    // (|r + c|² − |r|²)/(2·Σwᵢ²/mᵢ·Δt²); an impact zone keeps its nodes'
+    // momentum and angular momentum, the least-energy rigid motion that
+    // does. So the energy cannot rise, in any order of impulses; the
+    // momentum is kept (Bridson et al. 2002, §7; Provot 1997). Eq. 3.30's
+    // repulsion uncapped (m(0.1·d/Δt − vₙ) for a pair parting slower than
+    // that) raises it here.
+    let n = 21;
+    let layer = Collision::default().thickness;
+    let m = structure_proc::rectangle::rectangle(0.2, 0.2, n, n, [0.0; 3]);
+    let x0 = m.pleated(4, 0.6 * layer);
+    let net = network(&x0, &vec![1e-3; n * n], m.triangles.clone(), n * n, &[]);
+    let spec = Collision {
+        friction: 0.3,
+        repulsion_stiffness: Some(1e6),
+        ..Collision::default()
+    };
+    let dt = 1e-4;
+    let mut s = 7u64;
+    let mut r = move || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    };
+    let mut v: Vec<f64> = (0..3 * n * n)
+        .map(|i| (0.02 * r() + if i % 3 == 1 { 0.1 } else { 0.0 }) * layer / dt)
+        .collect();
+    let mut x: Vec<f64> = x0.iter().zip(&v).map(|(a, b)| a + b * dt).collect();
+    let energy = |v: &[f64]| 0.5 * 1e-3 * v.iter().map(|c| c * c).sum::<f64>();
+    let momentum = |v: &[f64]| -> [f64; 3] {
+        let mut p = [0.0; 3];
+        for (i, c) in v.iter().enumerate() {
+            p[i % 3] += 1e-3 * c;
+        }
+        p
+    };
+    let (e0, p0) = (energy(&v), momentum(&v));
+    let mut contacts = Contacts::new(&net, &spec).unwrap();
+    contacts.begin_step(&x0);
+    contacts
+        .resolve(&mut x, &mut v, &net.mass, &net.inv_mass, dt)
+        .unwrap();
+    let (e1, p1) = (energy(&v), momentum(&v));
+    assert!(
+        contacts.stats.proximity > 200,
+        "{} proximity impulses",
+        contacts.stats.proximity
+    );
+    assert!(
+        e1 <= e0 * (1.0 + 1e-12),
+        "kinetic energy rose from {e0} J to {e1} J"
+    );
+    for c in 0..3 {
+        assert!(
+            (p1[c] - p0[c]).abs() < 1e-15,
+            "momentum {c} changed by {:e} N·s",
+            p1[c] - p0[c]
+        );
+    }
 }

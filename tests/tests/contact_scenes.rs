@@ -48,8 +48,8 @@ fn assert_no_crossings(
 #[test]
 fn a_cloth_on_strings_meets_them_then_they_meet_then_it_meets_itself_and_nothing_crosses() {
     // scenarios/cloth-strings.toml on a coarser mesh (10 rings, 20 segments
-    // a string), to 1.5 s: the three kinds of contact begin at 0.10, 0.31
-    // and 0.61 s (on 8 rings the halves only just meet, or do not, as the
+    // a string), to 1.5 s: the three kinds of contact begin at 0.10, 0.35
+    // and 0.67 s (on 8 rings the halves only just meet, or do not, as the
     // order of the pass's impulses has it).
     let dir = scratch("cloth-strings");
     let scenario = variant("cloth-strings", &dir, |s| {

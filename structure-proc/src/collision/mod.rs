@@ -9,19 +9,21 @@
 //! 1. the average motion over the step, dx = x^can − x^n (= v_ave·Δt);
 //! 2. **proximity** at x^n: point–triangle and edge–edge pairs closer than
 //!    the layer `thickness` get an inelastic impulse, eq. 3.30's repulsion
-//!    and Coulomb friction (`impulse.rs`);
+//!    and Coulomb friction (`impulse.rs`); the part of the repulsion that
+//!    would part a pair faster than it came moves positions only (`push`);
 //! 3. **collisions** from x^n along dx: the first touch of each pair by the
 //!    coplanarity cubic (`geometry.rs`), stopped by an inelastic impulse,
 //!    for up to [`PASSES`] passes;
 //! 4. **impact zones** for what is left: colliding nodes merge into zones
 //!    that move rigidly (`zones.rs`), until no collision remains, so no
 //!    step ends with an intersection;
-//! 5. x^{n+1} = x^n + dx and v^{n+1} = v^can + (dx − dx^can)/Δt on the
-//!    nodes the pass moved; the others keep x^can and v^can bit for bit.
+//! 5. x^{n+1} = x^n + dx and v^{n+1} = v^can + (dx − push − dx^can)/Δt on
+//!    the nodes the pass moved; the others keep x^can and v^can bit for bit.
 //!
 //! The candidates come from an AABB tree over triangles and segments with
-//! normal-hemisphere culling (`tree.rs`), found in parallel and kept up to
-//! date node by node as impulses move nodes (`candidates.rs`); the impulses are
+//! normal-hemisphere culling (`tree.rs`), found in parallel, held from
+//! step to step and kept up to date node by node as nodes leave the boxes
+//! they were found for (`candidates.rs`); the impulses are
 //! applied one pair at a time in an order fixed by the tree, so a run is
 //! the same on any number of threads.
 
@@ -49,7 +51,6 @@ use geometry::V3;
 use impulse::Repulsion;
 use rayon::prelude::*;
 use structure_section::Collision;
-use sweep::Sweep;
 use tree::Tree;
 use zones::Zones;
 
@@ -162,6 +163,8 @@ pub struct Contacts {
     momenta: Vec<(V3, V3)>,
     /// The structure's nodes; the bodies' points are numbered after them.
     nodes: usize,
+    /// The candidates held from the last step.
+    held: Option<Candidates>,
     /// Nodes from here on are the strings'.
     canopy_nodes: usize,
     pub stats: Stats,
@@ -226,6 +229,7 @@ impl Contacts {
             momenta: vec![(V3::zeros(), V3::zeros()); bodies.carried.len()],
             bodies,
             nodes: net.nodes(),
+            held: None,
             canopy_nodes: net.canopy_nodes,
             stats: Stats::default(),
         }))
@@ -238,6 +242,7 @@ impl Contacts {
             self.surface = Surface::with_fixed(net, &self.bodies.triangles);
             self.strings = self.surface.len() - self.surface.triangles;
             self.tree = Tree::default();
+            self.held = None;
         }
     }
 
@@ -273,8 +278,14 @@ impl Contacts {
         let (mass, inv_mass) = (&mass[..], &inv_mass[..]);
         let mut dx = proposed.clone();
         let structure_nodes = self.nodes;
-        let mut candidates = self.refreshed(&dx);
-        if self.proximity(&candidates, inv_mass, &mut dx) {
+        let mut candidates = self.step_candidates(&dx);
+        // What the repulsion moves the positions only ([`Repulsion::act`]):
+        // part of the motion from here on, never of the velocity.
+        let mut push = vec![0.0; dx.len()];
+        if self.proximity(&candidates, inv_mass, &mut dx, &mut push) {
+            for (a, p) in dx.iter_mut().zip(&push) {
+                *a += p;
+            }
             candidates = self.current(candidates, &dx);
         }
         let mut hits = self.detect(&candidates, &dx);
@@ -283,7 +294,9 @@ impl Contacts {
                 break;
             }
             for h in &hits {
-                if let Some(jdt) = impulse::stop(&h.stencil, &h.w, &h.normal, inv_mass, &mut dx) {
+                if let Some(jdt) =
+                    impulse::stop(&h.stencil, &h.w, &h.normal, inv_mass, &mut dx, &mut push)
+                {
                     self.credit(&h.stencil, &h.w, jdt);
                     self.stats.collisions += 1;
                     self.stats
@@ -293,7 +306,8 @@ impl Contacts {
             candidates = self.current(candidates, &dx);
             hits = self.detect(&candidates, &dx);
             if pass == PASSES && !hits.is_empty() {
-                self.impact_zones(hits, candidates, mass, inv_mass, &mut dx)?;
+                let motion = (&mut dx[..], &mut push[..]);
+                candidates = self.impact_zones(hits, candidates, mass, inv_mass, motion)?;
                 break;
             }
         }
@@ -305,14 +319,21 @@ impl Contacts {
                 let i = 3 * n + c;
                 if dx[i] != proposed[i] {
                     x[i] = self.start[i] + dx[i];
-                    let dv = (dx[i] - proposed[i]) / dt;
+                    let dv = (dx[i] - push[i] - proposed[i]) / dt;
                     v[i] += dv;
                     self.stats.received[c] += mass[n] * dv;
                 }
             }
         }
         self.carry();
+        self.held = Some(candidates);
         Ok(())
+    }
+
+    /// Drop the candidates held from earlier steps: the next step finds
+    /// them anew (what the first step of a run pays; for benchmarks).
+    pub fn forget_candidates(&mut self) {
+        self.held = None;
     }
 
     /// How far the boxes reach beyond the features [m]: half the layer,
@@ -323,7 +344,13 @@ impl Contacts {
     }
 
     /// Proximity impulses at x^n; true if any acted.
-    fn proximity(&mut self, candidates: &Candidates, inv_mass: &[f64], dx: &mut [f64]) -> bool {
+    fn proximity(
+        &mut self,
+        candidates: &Candidates,
+        inv_mass: &[f64],
+        dx: &mut [f64],
+        push: &mut [f64],
+    ) -> bool {
         let layer = self.repulsion.thickness;
         let mut acted = false;
         for (st, c) in candidates
@@ -339,7 +366,7 @@ impl Contacts {
                 },
                 None => *c,
             };
-            if let Some(jdt) = self.repulsion.act(st, c, inv_mass, dx) {
+            if let Some(jdt) = self.repulsion.act(st, c, inv_mass, dx, push) {
                 self.credit(st, &c.w, jdt);
                 self.stats.proximity += 1;
                 self.stats.count(st, self.canopy_nodes, self.nodes);
@@ -352,14 +379,13 @@ impl Contacts {
     /// The pairs that touch during the step from x^n along `dx`, with the
     /// normal that points from the second feature to the first as they
     /// stood at the start. A pair whose start distance exceeds what its
-    /// nodes move by more than the tolerance cannot touch: its cubic is
-    /// not solved.
+    /// nodes move relative to each other by more than the tolerance cannot
+    /// touch: its cubic is not solved.
     fn detect(&self, candidates: &Candidates, dx: &[f64]) -> Vec<Hit> {
         let x = &self.start;
         let eta = IMPACT_FRACTION * self.repulsion.thickness;
-        let sweep = Sweep::new(x, dx);
         filter_map(&candidates.pairs, |(st, before)| {
-            if before.distance() - sweep.reach(st) > eta {
+            if before.distance() - st.approach(dx) > eta {
                 return None;
             }
             let s = st.impact(x, dx, eta)?;
@@ -397,15 +423,19 @@ impl Contacts {
         })
     }
 
-    /// Merge colliding nodes into rigid zones until no collision is left.
+    /// Merge colliding nodes into rigid zones until no collision is left;
+    /// the candidates brought up to date. A zone's nodes first give up
+    /// what the repulsion pushed them (`motion` is dx and the push), so
+    /// that the zone's rigid motion, a velocity, holds none of it.
     fn impact_zones(
         &mut self,
         mut hits: Vec<Hit>,
         mut candidates: Candidates,
         mass: &[f64],
         inv_mass: &[f64],
-        dx: &mut [f64],
-    ) -> Result<(), String> {
+        motion: (&mut [f64], &mut [f64]),
+    ) -> Result<Candidates, String> {
+        let (dx, push) = motion;
         self.stats.zone_steps += 1;
         let mut zones = Zones::new(inv_mass.len());
         for _ in 0..ZONE_ROUNDS {
@@ -428,6 +458,11 @@ impl Contacts {
             }
             for zone in zones.groups() {
                 let carrier = zone.iter().find_map(|&n| self.carrier(n));
+                for &n in &zone {
+                    for i in 3 * n..3 * n + 3 {
+                        dx[i] -= std::mem::take(&mut push[i]);
+                    }
+                }
                 let before = carrier.map(|k| self.zone_momentum(&zone, k, dx, mass));
                 zones::rigidify(&zone, &self.start, dx, mass, inv_mass);
                 if let (Some(k), Some((lin, ang))) = (carrier, before) {
@@ -441,7 +476,7 @@ impl Contacts {
             candidates = self.current(candidates, dx);
             hits = self.detect(&candidates, dx);
             if hits.is_empty() {
-                return Ok(());
+                return Ok(candidates);
             }
         }
         Err(format!(

@@ -5,7 +5,9 @@
 //! A feature's swept box (a point's, an edge's, a triangle's) is the union
 //! of its nodes' boxes; the features of a pair can come no closer over the
 //! step than their distance at the start less the largest motion of a node
-//! of each (the bound the narrow phase uses to skip the cubic).
+//! of each (the bound the narrow phase uses to skip the cubic). A node's
+//! box holds its path; |dx| is the box's diagonal, so it also bounds how
+//! far apart any two points of the box are.
 
 use super::geometry::{Kind, Stencil, V3};
 use rayon::prelude::*;
@@ -75,6 +77,20 @@ impl Sweep {
         most(a) + most(b)
     }
 
+    /// Whether node n's path in `now` lies within its path here grown by
+    /// `slack` [m] along every axis.
+    #[inline]
+    pub fn holds(&self, now: &Sweep, n: usize, slack: f64) -> bool {
+        let ((lo, hi), (l, h)) = (&self.boxes[n], &now.boxes[n]);
+        (0..3).all(|c| l[c] >= lo[c] - slack && h[c] <= hi[c] + slack)
+    }
+
+    /// Take node n's path from `other`.
+    pub fn take(&mut self, other: &Sweep, n: usize) {
+        self.boxes[n] = other.boxes[n];
+        self.moved[n] = other.moved[n];
+    }
+
     /// The nodes' boxes as nalgebra vectors, for the tree.
     pub fn feature_box_v3(&self, nodes: &[usize], grow: f64) -> (V3, V3) {
         let (lo, hi) = self.feature_box(nodes, grow);
@@ -98,5 +114,25 @@ impl Stencil {
             Kind::EdgeEdge => 2,
         };
         self.nodes.split_at(split)
+    }
+
+    /// How far the pair's two features can come closer over a step moving
+    /// by `dx`: the largest motion of a node of one relative to a node of
+    /// the other. Each feature's points are weighted means of its nodes,
+    /// so the relative motion of any two of them is a weighted mean of
+    /// these; a pair that moves together (a falling layer) comes no closer.
+    #[inline]
+    pub fn approach(&self, dx: &[f64]) -> f64 {
+        let (a, b) = self.features();
+        let mut most: f64 = 0.0;
+        for &i in a {
+            for &j in b {
+                let d = (0..3)
+                    .map(|c| (dx[3 * i + c] - dx[3 * j + c]).powi(2))
+                    .sum::<f64>();
+                most = most.max(d);
+            }
+        }
+        most.sqrt()
     }
 }
