@@ -266,11 +266,10 @@ fn a_string_sliding_on_a_fixed_triangle_feels_repulsion_and_coulomb_friction() {
 #[test]
 fn a_resting_pair_deep_in_the_layer_is_moved_out_without_a_velocity() {
     // A free string at rest over a fixed triangle, inside the 1 mm layer:
-    // there is no approach to stop, so eq. 3.30's repulsion
-    // Δxₙ = min(Δt²·k·d/m, 0.1·d) (= 0.1·d with this k) moves it out by
-    // positions alone when it lies deeper than half the layer, and its
-    // velocity stays zero; in the layer's outer half it is left as it is
-    // (Bridson et al. 2002, §7.2; `PUSH_WITHIN`).
+    // there is no approach to stop and no velocity to give back, so a
+    // string deeper than half the layer is moved out to half the layer by
+    // its positions alone and its velocity stays zero; in the layer's
+    // outer half it is left as it is (`PUSH_WITHIN`).
     let layer = Collision::default().thickness;
     for (z, moved) in [(0.2 * layer, true), (0.6 * layer, false)] {
         let x0 = vec![
@@ -294,7 +293,7 @@ fn a_resting_pair_deep_in_the_layer_is_moved_out_without_a_velocity() {
         contacts
             .resolve(&mut x, &mut v, &net.mass, &net.inv_mass, 1e-3)
             .unwrap();
-        let want = if moved { z + 0.1 * (layer - z) } else { z };
+        let want = if moved { 0.5 * layer } else { z };
         for node in [3, 4] {
             assert!(
                 (x[3 * node + 2] - want).abs() < 1e-15,
@@ -619,4 +618,56 @@ fn the_pass_never_raises_the_kinetic_energy_whatever_the_motion() {
             p1[c] - p0[c]
         );
     }
+}
+
+#[test]
+fn a_static_ball_stops_a_node_along_its_true_normal() {
+    // A free string end falls straight at the centre of a static ball
+    // (radius 0.1 m, meshed with 24 facets round) where no facet is square
+    // to the fall: the ball stops it along its own normal, the radius, so
+    // the node keeps no sliding velocity (a frictionless ball). Stopped
+    // along the facet's normal (3.6° off the radius there), it slid on at
+    // 0.12 m/s, 6 % of its speed.
+    let rigid: structure_section::RigidSection = toml::from_str(
+        r#"
+        [[bodies]]
+        name = "ball"
+        shape = { type = "sphere", radius = 0.1 }
+        motion = "static"
+        mass = 1.0
+        position = [0.0, 0.0, 0.0]
+        "#,
+    )
+    .unwrap();
+    let (theta, phi) = (0.37_f64, 0.21_f64);
+    let u = [
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    ];
+    let (r, speed, dt) = (0.1005, 2.0, 1e-3);
+    // The string runs out along the radius to a fixed node 0.5 m away.
+    let x0: Vec<f64> = [r, 0.6].iter().flat_map(|&a| u.map(|c| a * c)).collect();
+    let net = network(&x0, &[0.01, 0.0], vec![], 0, &[(0, 1)]);
+    let spec = Collision::default();
+    let mut contacts = Contacts::with_bodies(&net, &spec, Some(&rigid))
+        .unwrap()
+        .unwrap();
+    let mut v = vec![0.0; 6];
+    (0..3).for_each(|c| v[c] = -speed * u[c]);
+    let mut x: Vec<f64> = x0.iter().zip(&v).map(|(a, b)| a + b * dt).collect();
+    contacts.begin_step(&x0);
+    contacts
+        .resolve(&mut x, &mut v, &net.mass, &net.inv_mass, dt)
+        .unwrap();
+    let along: f64 = (0..3).map(|c| v[c] * u[c]).sum();
+    let across = (0..3)
+        .map(|c| (v[c] - along * u[c]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!(along > -speed, "not stopped: {along} m/s along the radius");
+    assert!(
+        across < 1e-12 * speed,
+        "the node slides at {across} m/s across the radius"
+    );
 }

@@ -227,6 +227,21 @@ fn a_killed_box_that_follows_the_canopy_restarts_to_the_same_results() {
     );
 }
 
+/// Two balls in a cloth (`ball-cloth`) with the structure's contact pass:
+/// the candidates it holds from step to step are not in the checkpoint
+/// (the restarted run finds them anew), and the impulses act in the order
+/// of the pairs' node numbers, so the restart gives the same impulses.
+#[test]
+fn a_killed_cloth_in_contact_with_balls_restarts_to_the_same_results() {
+    let dir = scratch("restart-contact");
+    let scenario = variant("ball-cloth", &dir, |s| {
+        s.run.end_time = 0.8;
+        s.run.output_interval = 0.1;
+        s.run.checkpoint_interval = Some(0.2);
+    });
+    restart_matches_whole_run("ball-cloth", &scenario, &dir, &["structure", "rigid"]);
+}
+
 /// The Sod shock tube of the euler model, on 2 000 cells so that it runs
 /// long enough to be killed, on two MPI ranks where MPI is installed:
 /// each rank's conserved cells and the time.

@@ -288,15 +288,19 @@ pub struct BodySurfaces {
     pub points: Vec<f64>,
     /// Their triangles, over node numbers from the `first` given.
     pub triangles: Vec<[usize; 3]>,
-    /// The moving bodies among them.
+    /// Each body's points and true shape, static or moving.
     pub carried: Vec<Carried>,
 }
 
-/// A moving body's surface points.
+/// A body's surface points: carried by the body if it moves, fixed in the
+/// world if it is static.
 #[derive(Debug, Clone)]
 pub struct Carried {
     /// The body's place in `[rigid]`.
     pub body: usize,
+    /// Whether the body moves (takes the reaction of the impulses it
+    /// gives); a static body's points stay where the scene put them.
+    pub moves: bool,
     /// The node number of its first point.
     pub first: usize,
     /// Its points in the body's own frame.
@@ -348,16 +352,15 @@ pub fn surfaces(
         }
         out.triangles
             .extend(tris.iter().map(|t| t.map(|k| base + k as usize)));
-        if spec.motion != Motion::Static {
-            out.carried.push(Carried {
-                body: index,
-                first: base,
-                own,
-                centre: body.state.x,
-                shape: shape.shape.clone(),
-                pose: body.shape_pose(),
-            });
-        }
+        out.carried.push(Carried {
+            body: index,
+            moves: spec.motion != Motion::Static,
+            first: base,
+            own,
+            centre: body.state.x,
+            shape: shape.shape.clone(),
+            pose: body.shape_pose(),
+        });
     }
     Ok(out)
 }

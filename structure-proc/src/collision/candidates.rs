@@ -146,12 +146,12 @@ impl Contacts {
             }
             Some(near)
         });
-        let mut pairs: Vec<_> = c
+        let kept: Vec<_> = c
             .pairs
             .into_iter()
             .filter(|(st, _)| !st.nodes.iter().any(|&n| drifted[n]))
             .collect();
-        pairs.extend(found.into_iter().flatten());
+        let pairs = merged(kept, in_order(found.concat()));
         Candidates { pairs, reference }
     }
 
@@ -168,7 +168,7 @@ impl Contacts {
             }
             Some(near)
         });
-        found.concat()
+        in_order(found.concat())
     }
 
     /// The pair `st` with its nearest points at the step's start if it can
@@ -190,6 +190,33 @@ impl Contacts {
         let c = st.closest(&st.at(&self.start, &self.start, 0.0));
         (c.distance() - reference.reach(&st) <= slack).then_some((st, c))
     }
+}
+
+/// `pairs` in the order of their stencils (node numbers, then kind): the
+/// order the impulses are applied in, which then depends on the state
+/// alone and not on the tree's history or on which pairs were held, so a
+/// restarted run is the same as one never stopped. Every list of
+/// candidates holds every pair that can act; the others do nothing.
+fn in_order(mut pairs: Vec<(Stencil, Closest)>) -> Vec<(Stencil, Closest)> {
+    if pairs.len() < PARALLEL_ITEMS {
+        pairs.sort_unstable_by_key(|(st, _)| *st);
+    } else {
+        pairs.par_sort_unstable_by_key(|(st, _)| *st);
+    }
+    pairs
+}
+
+/// Two lists in stencil order as one.
+fn merged(a: Vec<(Stencil, Closest)>, b: Vec<(Stencil, Closest)>) -> Vec<(Stencil, Closest)> {
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let (mut a, mut b) = (a.into_iter().peekable(), b.into_iter().peekable());
+    while let (Some(x), Some(y)) = (a.peek(), b.peek()) {
+        let next = if x.0 < y.0 { a.next() } else { b.next() };
+        out.extend(next);
+    }
+    out.extend(a);
+    out.extend(b);
+    out
 }
 
 #[cfg(test)]

@@ -1,10 +1,12 @@
-//! Moving bodies in the contact pass: their faceted surfaces ride with
-//! them over each step (v + ω × r), no impulse moves them within it, the
-//! facets find the contacts while the body pushes along its true normal,
-//! and each body takes the reaction of every impulse it gives (the
-//! dissertation §2.5: each rigid body one impact zone), which the driver
-//! hands to the rigid solver with the node–body pass's.
+//! Bodies in the contact pass: the facets of their surfaces find the
+//! contacts while the body pushes along its true normal (a ball radially),
+//! static or moving. A moving body's surface rides with it over each step
+//! (v + ω × r), no impulse moves it within it, and the body takes the
+//! reaction of every impulse it gives (the dissertation §2.5: each rigid
+//! body one impact zone), which the driver hands to the rigid solver with
+//! the node–body pass's.
 
+use super::bodies::Carried;
 use super::geometry::{Stencil, V3};
 use super::Contacts;
 use rigid_proc::body::Body;
@@ -14,7 +16,7 @@ impl Contacts {
     /// in order, as the rigid solver sends them) are.
     pub fn place_bodies(&mut self, bodies: &[Body]) {
         let structure = self.nodes;
-        for (k, c) in self.bodies.carried.iter().enumerate() {
+        for (k, c) in moving(&self.bodies.carried) {
             let body = &bodies[c.body];
             let pose = body.own_pose();
             for (i, p) in c.own.iter().enumerate() {
@@ -32,7 +34,7 @@ impl Contacts {
     /// within the step; it takes the momentum afterwards).
     pub fn move_bodies(&mut self, bodies: &[Body], dt: f64) {
         let structure = self.nodes;
-        for (k, c) in self.bodies.carried.iter().enumerate() {
+        for (k, c) in moving(&self.bodies.carried) {
             let body = &bodies[c.body];
             // About where the centre is now, not where it was placed.
             let (v, omega, centre) = (
@@ -59,11 +61,12 @@ impl Contacts {
             .carried
             .iter()
             .zip(&self.momenta)
+            .filter(|(c, _)| c.moves)
             .map(|(c, (lin, ang))| (c.body, *lin, *ang))
     }
 
-    /// The moving body that carries node `n`, by its place in
-    /// [`BodySurfaces::carried`], if any.
+    /// The body whose surface node `n` is, static or moving, by its place
+    /// in [`BodySurfaces::carried`], if any.
     pub(super) fn carrier(&self, n: usize) -> Option<usize> {
         if n < self.nodes {
             return None;
@@ -74,93 +77,97 @@ impl Contacts {
             .position(|c| (c.first..c.first + c.own.len()).contains(&n))
     }
 
-    /// Give the moving bodies of `st` the reaction of the impulse
-    /// `jdt`/Δt the pair took with weights `w`: node i took wᵢ·J, so a
-    /// body's points, which no impulse moves, take theirs as the body's
-    /// momentum, and linear momentum is kept. The body's feature is its
-    /// faceted surface; its torque is taken where the true surface is, along
-    /// its true normal (plus the tangential part when there is friction),
-    /// so facets do not spin a frictionless ball.
-    pub(super) fn credit(&mut self, st: &Stencil, w: &[f64; 4], jdt: V3) {
-        if st.nodes.iter().all(|&n| n < self.nodes) {
-            return;
-        }
-        let j = jdt / self.repulsion.dt;
-        let carriers: Vec<(usize, f64, V3)> = st
-            .nodes
-            .iter()
-            .zip(w)
-            .filter_map(|(&n, &wi)| {
-                let at = V3::from_column_slice(&self.start[3 * n..3 * n + 3]);
-                self.carrier(n).map(|k| (k, wi, at * wi))
-            })
-            .collect();
-        for (i, &(k, _, _)) in carriers.iter().enumerate() {
-            if carriers[..i].iter().any(|c| c.0 == k) {
-                continue;
-            }
-            let (weight, at) = carriers
-                .iter()
-                .filter(|c| c.0 == k)
-                .fold((0.0, V3::zeros()), |(s, a), c| (s + c.1, a + c.2));
-            if weight == 0.0 {
-                continue;
-            }
-            let push = j * weight;
-            let torque = self.torque(k, &(at / weight), &push);
-            self.momenta[k].0 += push;
-            self.momenta[k].1 += torque;
-        }
+    /// The moving body that carries node `n`, if any.
+    pub(super) fn mover(&self, n: usize) -> Option<usize> {
+        self.carrier(n).filter(|&k| self.bodies.carried[k].moves)
     }
 
-    /// The true outward normal of the moving body that takes part in `st`
-    /// (weights `w`, nodes moved by `s`·`dx` from the step's start) where
-    /// its feature's nearest point lies, pointing from the pair's second
-    /// feature to its first as separations do; None if no moving body
-    /// takes part. The facets find the contact; the body's shape says
-    /// which way it pushes, so a round body pushes radially.
+    /// Give the moving body of `st` the reaction of the impulse `jdt`/Δt
+    /// the pair took with weights `w`: node i took wᵢ·J, so the body's
+    /// points, which no impulse moves, take theirs as the body's momentum,
+    /// and linear momentum is kept. The push is along the body's true
+    /// normal (plus friction's part) and acts where that normal was taken
+    /// ([`Contacts::body_contact`]), so a frictionless ball is not spun.
+    pub(super) fn credit(&mut self, st: &Stencil, w: &[f64; 4], jdt: V3) {
+        let Some(contact) = self.body_contact(st, w, None) else {
+            return;
+        };
+        if !self.bodies.carried[contact.body].moves || contact.weight == 0.0 {
+            return;
+        }
+        let push = jdt / self.repulsion.dt * contact.weight;
+        self.momenta[contact.body].0 += push;
+        self.momenta[contact.body].1 += contact.arm.cross(&push);
+    }
+
+    /// The true outward normal of the body that takes part in `st`
+    /// (weights `w`, nodes moved by `s`·`dx` from the step's start),
+    /// pointing from the pair's second feature to its first as separations
+    /// do; None if no body takes part. The facets find the contact; the
+    /// body's shape says which way it pushes, so a round body pushes
+    /// radially.
     pub(super) fn body_normal(&self, st: &Stencil, w: &[f64; 4], dx: &[f64], s: f64) -> Option<V3> {
+        let c = self.body_contact(st, w, Some((dx, s)))?;
+        Some(if c.body_first { -c.outward } else { c.outward })
+    }
+
+    /// Where the body that takes part in `st` (weights `w`) meets it, the
+    /// nodes at the step's start moved by s·dx if `moved`: the true
+    /// surface's point nearest the structure's feature and the outward
+    /// normal there (the body's own feature lies on its facets, where a
+    /// flat face says nothing), or nearest the body's feature if the
+    /// structure's touches the surface.
+    fn body_contact(
+        &self,
+        st: &Stencil,
+        w: &[f64; 4],
+        moved: Option<(&[f64], f64)>,
+    ) -> Option<BodyContact> {
         if st.nodes.iter().all(|&n| n < self.nodes) {
             return None;
         }
         let (first, _) = st.features();
         let mut found = None;
-        let (mut weight, mut at) = (0.0, V3::zeros());
+        // Weight and weighted point of the body's feature, then the structure's.
+        let mut sums = [(0.0, V3::zeros()); 2];
         for (i, &n) in st.nodes.iter().enumerate() {
-            if let Some(k) = self.carrier(n) {
-                found = Some((k, i < first.len()));
-                let x = V3::from_column_slice(&self.start[3 * n..3 * n + 3]);
-                let d = V3::from_column_slice(&dx[3 * n..3 * n + 3]);
-                weight += w[i];
-                at += (x + d * s) * w[i];
+            let mut x = V3::from_column_slice(&self.start[3 * n..3 * n + 3]);
+            if let Some((dx, s)) = moved {
+                x += V3::from_column_slice(&dx[3 * n..3 * n + 3]) * s;
             }
+            let side = match self.carrier(n) {
+                Some(k) => {
+                    found = Some((k, i < first.len()));
+                    0
+                }
+                None => 1,
+            };
+            sums[side].0 += w[i];
+            sums[side].1 += x * w[i];
         }
-        let (k, body_first) = found?;
-        if weight == 0.0 {
-            return None;
-        }
-        let (pose, placed) = &self.placed[k];
-        let centre = self.centres[k].0 + self.centres[k].1 * s;
-        let (_, outward) =
-            self.bodies.carried[k].surface_at(pose, &(at / weight - (centre - placed)));
-        Some(if body_first { -outward } else { outward })
-    }
-
-    /// The torque about carried body k's centre of the push `push` on its
-    /// faceted surface at `at`: applied at the true surface's nearest point,
-    /// along its normal there (all of it when there is friction).
-    fn torque(&self, k: usize, at: &V3, push: &V3) -> V3 {
-        let carried = &self.bodies.carried[k];
-        let (pose, placed) = &self.placed[k];
+        let (body, body_first) = found?;
+        let (pose, placed) = &self.placed[body];
+        let s = moved.map_or(0.0, |m| m.1);
         // The body has moved by this since it was placed.
-        let shift = self.centres[k].0 - placed;
-        let (surface, normal) = carried.surface_at(pose, &(at - shift));
-        let along = if self.repulsion.friction > 0.0 {
-            *push
-        } else {
-            normal * normal.dot(push)
-        };
-        (surface - placed).cross(&along)
+        let shift = self.centres[body].0 + self.centres[body].1 * s - placed;
+        let carried = &self.bodies.carried[body];
+        let (surface, outward) = [1, 0]
+            .iter()
+            .filter(|&&side| sums[side].0 != 0.0)
+            .find_map(|&side| {
+                let at = sums[side].1 / sums[side].0 - shift;
+                let (surface, outward) = carried.surface_at(pose, &at);
+                // The structure's point must stand off the surface to say.
+                (side == 0 || (at - surface).norm() > 1e-9 * self.repulsion.thickness)
+                    .then_some((surface, outward))
+            })?;
+        Some(BodyContact {
+            body,
+            body_first,
+            weight: sums[0].0,
+            arm: surface - placed,
+            outward,
+        })
     }
 
     /// The linear and angular momentum (about carried body k's centre) of
@@ -195,4 +202,23 @@ impl Contacts {
             *d = V3::zeros();
         }
     }
+}
+
+/// The moving bodies among `carried`, with their places in it.
+fn moving(carried: &[Carried]) -> impl Iterator<Item = (usize, &Carried)> {
+    carried.iter().enumerate().filter(|(_, c)| c.moves)
+}
+
+/// Where a body meets a pair ([`Contacts::body_contact`]).
+struct BodyContact {
+    /// The body's place in [`BodySurfaces::carried`](super::bodies::BodySurfaces).
+    body: usize,
+    /// Whether the body's feature is the pair's first.
+    body_first: bool,
+    /// The summed weight of the body's nodes in the pair.
+    weight: f64,
+    /// The contact point on the true surface, from the body's centre.
+    arm: V3,
+    /// The true surface's outward normal there.
+    outward: V3,
 }

@@ -24,8 +24,9 @@
 //! normal-hemisphere culling (`tree.rs`), found in parallel, held from
 //! step to step and kept up to date node by node as nodes leave the boxes
 //! they were found for (`candidates.rs`); the impulses are
-//! applied one pair at a time in an order fixed by the tree, so a run is
-//! the same on any number of threads.
+//! applied one pair at a time in the order of the pairs' node numbers, so
+//! a run is the same on any number of threads, and a restarted run the
+//! same as one never stopped.
 
 mod bodies;
 mod candidates;
@@ -358,7 +359,7 @@ impl Contacts {
             .iter()
             .filter(|(_, c)| c.distance() < layer)
         {
-            // A moving body pushes along its true normal, not its facet's.
+            // A body pushes along its true normal, not its facet's.
             let c = &match self.body_normal(st, &c.w, dx, 0.0) {
                 Some(n) => geometry::Closest {
                     w: c.w,
@@ -395,7 +396,7 @@ impl Contacts {
             let before: V3 = (0..4).map(|i| start[i] * touch.w[i]).sum();
             let rel = impulse::relative(st, &touch.w, dx);
             if let Some(normal) = self.body_normal(st, &touch.w, dx, s) {
-                // A moving body stops the feature along its true normal.
+                // A body stops the feature along its true normal.
                 return Some(Hit {
                     stencil: *st,
                     w: touch.w,
@@ -457,7 +458,7 @@ impl Contacts {
                 ));
             }
             for zone in zones.groups() {
-                let carrier = zone.iter().find_map(|&n| self.carrier(n));
+                let carrier = zone.iter().find_map(|&n| self.mover(n));
                 for &n in &zone {
                     for i in 3 * n..3 * n + 3 {
                         dx[i] -= std::mem::take(&mut push[i]);
