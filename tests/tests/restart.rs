@@ -230,7 +230,8 @@ fn a_killed_box_that_follows_the_canopy_restarts_to_the_same_results() {
 /// Two balls in a cloth (`ball-cloth`) with the structure's contact pass:
 /// the candidates it holds from step to step are not in the checkpoint
 /// (the restarted run finds them anew), and the impulses act in the order
-/// of the pairs' node numbers, so the restart gives the same impulses.
+/// of the pairs' kinds and node numbers, so the restart gives the same
+/// impulses.
 #[test]
 fn a_killed_cloth_in_contact_with_balls_restarts_to_the_same_results() {
     let dir = scratch("restart-contact");

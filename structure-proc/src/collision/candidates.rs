@@ -192,7 +192,7 @@ impl Contacts {
     }
 }
 
-/// `pairs` in the order of their stencils (node numbers, then kind): the
+/// `pairs` in the order of their stencils (kind, then node numbers): the
 /// order the impulses are applied in, which then depends on the state
 /// alone and not on the tree's history or on which pairs were held, so a
 /// restarted run is the same as one never stopped. Every list of

@@ -85,19 +85,25 @@ impl Contacts {
     /// Give the moving body of `st` the reaction of the impulse `jdt`/Δt
     /// the pair took with weights `w`: node i took wᵢ·J, so the body's
     /// points, which no impulse moves, take theirs as the body's momentum,
-    /// and linear momentum is kept. The push is along the body's true
-    /// normal (plus friction's part) and acts where that normal was taken
-    /// ([`Contacts::body_contact`]), so a frictionless ball is not spun.
+    /// and linear momentum is kept. The torque is taken at the true
+    /// surface's point nearest the structure's feature
+    /// ([`Contacts::body_contact`]) and, without friction, of the push's
+    /// part along the true normal there, so a frictionless ball is never
+    /// spun, whatever normal the impulse took.
     pub(super) fn credit(&mut self, st: &Stencil, w: &[f64; 4], jdt: V3) {
+        if st.nodes.iter().all(|&n| self.mover(n).is_none()) {
+            return;
+        }
         let Some(contact) = self.body_contact(st, w, None) else {
             return;
         };
-        if !self.bodies.carried[contact.body].moves || contact.weight == 0.0 {
-            return;
-        }
         let push = jdt / self.repulsion.dt * contact.weight;
+        let along = match contact.outward {
+            Some(n) if self.repulsion.friction == 0.0 => n * n.dot(&push),
+            _ => push,
+        };
         self.momenta[contact.body].0 += push;
-        self.momenta[contact.body].1 += contact.arm.cross(&push);
+        self.momenta[contact.body].1 += contact.arm.cross(&along);
     }
 
     /// The true outward normal of the body that takes part in `st`
@@ -108,15 +114,16 @@ impl Contacts {
     /// radially.
     pub(super) fn body_normal(&self, st: &Stencil, w: &[f64; 4], dx: &[f64], s: f64) -> Option<V3> {
         let c = self.body_contact(st, w, Some((dx, s)))?;
-        Some(if c.body_first { -c.outward } else { c.outward })
+        c.outward.map(|n| if c.body_first { -n } else { n })
     }
 
     /// Where the body that takes part in `st` (weights `w`) meets it, the
     /// nodes at the step's start moved by s·dx if `moved`: the true
     /// surface's point nearest the structure's feature and the outward
-    /// normal there (the body's own feature lies on its facets, where a
-    /// flat face says nothing), or nearest the body's feature if the
-    /// structure's touches the surface.
+    /// normal there; the normal nearest the body's feature if the
+    /// structure's touches the surface (the body's own feature lies on its
+    /// facets, where a flat face says nothing), or none if that touches it
+    /// too (the facets' geometry then decides).
     fn body_contact(
         &self,
         st: &Stencil,
@@ -151,16 +158,16 @@ impl Contacts {
         // The body has moved by this since it was placed.
         let shift = self.centres[body].0 + self.centres[body].1 * s - placed;
         let carried = &self.bodies.carried[body];
-        let (surface, outward) = [1, 0]
-            .iter()
-            .filter(|&&side| sums[side].0 != 0.0)
-            .find_map(|&side| {
-                let at = sums[side].1 / sums[side].0 - shift;
-                let (surface, outward) = carried.surface_at(pose, &at);
-                // The structure's point must stand off the surface to say.
-                (side == 0 || (at - surface).norm() > 1e-9 * self.repulsion.thickness)
-                    .then_some((surface, outward))
-            })?;
+        // Each feature's point (weights ±1 each), its nearest point on the
+        // true surface and the normal there if the point stands off it.
+        let near = |side: usize| {
+            let at = sums[side].1 / sums[side].0 - shift;
+            let (surface, outward) = carried.surface_at(pose, &at);
+            let clear = (at - surface).norm() > 1e-9 * self.repulsion.thickness;
+            (surface, clear.then_some(outward))
+        };
+        let (surface, outward) = near(1);
+        let outward = outward.or_else(|| near(0).1);
         Some(BodyContact {
             body,
             body_first,
@@ -219,6 +226,6 @@ struct BodyContact {
     weight: f64,
     /// The contact point on the true surface, from the body's centre.
     arm: V3,
-    /// The true surface's outward normal there.
-    outward: V3,
+    /// The true surface's outward normal there, if it can be told.
+    outward: Option<V3>,
 }

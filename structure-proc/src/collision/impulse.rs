@@ -75,7 +75,8 @@ impl Repulsion {
     ///
     /// The repulsion is held to what keeps the energy. In the layer's
     /// outer part a pair's approach is only stopped (resting contact
-    /// lives there). Closer than [`PUSH_WITHIN`] of the layer, the pair's
+    /// lives there; it is pushed only as far as other pairs' pushes moved
+    /// it in). Closer than [`PUSH_WITHIN`] of the layer, the pair's
     /// velocity takes eq. 3.30's repulsion up to the approach just
     /// stopped, so that it parts no faster than it came, and its
     /// positions only are moved back out to [`PUSH_WITHIN`] of the layer,

@@ -9,8 +9,8 @@
 //! 1. the average motion over the step, dx = x^can − x^n (= v_ave·Δt);
 //! 2. **proximity** at x^n: point–triangle and edge–edge pairs closer than
 //!    the layer `thickness` get an inelastic impulse, eq. 3.30's repulsion
-//!    and Coulomb friction (`impulse.rs`); the part of the repulsion that
-//!    would part a pair faster than it came moves positions only (`push`);
+//!    and Coulomb friction (`impulse.rs`); a pair closer than half the
+//!    layer is moved back out to it by its positions only (`push`);
 //! 3. **collisions** from x^n along dx: the first touch of each pair by the
 //!    coplanarity cubic (`geometry.rs`), stopped by an inelastic impulse,
 //!    for up to [`PASSES`] passes;
@@ -23,10 +23,10 @@
 //! The candidates come from an AABB tree over triangles and segments with
 //! normal-hemisphere culling (`tree.rs`), found in parallel, held from
 //! step to step and kept up to date node by node as nodes leave the boxes
-//! they were found for (`candidates.rs`); the impulses are
-//! applied one pair at a time in the order of the pairs' node numbers, so
-//! a run is the same on any number of threads, and a restarted run the
-//! same as one never stopped.
+//! they were found for (`candidates.rs`); the impulses are applied one
+//! pair at a time in the order of the pairs' kinds and node numbers, so a
+//! run is the same on any number of threads, and a restarted run the same
+//! as one never stopped.
 
 mod bodies;
 mod candidates;
