@@ -109,3 +109,46 @@ pub fn all_schemes() -> Vec<Scheme> {
 pub fn is_newton(s: Scheme) -> bool {
     matches!(s, Scheme::Newmark { .. } | Scheme::BackwardEuler { .. })
 }
+
+/// A network of free nodes at `x` with `mass`, the given triangles over all
+/// nodes before `canopy`, and strings (springs) after.
+pub fn network(
+    x: &[f64],
+    mass: &[f64],
+    triangles: Vec<[usize; 3]>,
+    canopy: usize,
+    springs: &[(usize, usize)],
+) -> structure_proc::network::Network {
+    let mut net = structure_proc::network::Network {
+        mass: mass.to_vec(),
+        kind: mass
+            .iter()
+            .map(|&m| {
+                if m > 0.0 {
+                    structure_proc::NodeKind::Free
+                } else {
+                    structure_proc::NodeKind::Fixed
+                }
+            })
+            .collect(),
+        triangles,
+        canopy_nodes: canopy,
+        ..structure_proc::network::Network::default()
+    };
+    for &(i, j) in springs {
+        let rest = (0..3)
+            .map(|c| (x[3 * i + c] - x[3 * j + c]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        net.springs.push(structure_proc::Spring {
+            i,
+            j,
+            k: 100.0,
+            rest,
+            tension_only: true,
+            eps: 0.0,
+        });
+    }
+    net.prepare();
+    net
+}
