@@ -205,6 +205,14 @@ impl Contacts {
         if surface.len() == bodies.triangles.len() {
             return Ok(None);
         }
+        // The held pairs number their nodes in 32 bits.
+        let points = net.nodes() + bodies.points.len() / 3;
+        if u32::try_from(points).is_err() {
+            return Err(format!(
+                "the collision pass takes at most {} nodes and body points; this structure has {points}",
+                u32::MAX
+            ));
+        }
         // Eq. 3.30's k: the scenario's, else the network's mean stiffness
         // (Bridson et al. 2002 use the cloth's stretch stiffness).
         let mean =
@@ -283,7 +291,7 @@ impl Contacts {
         // What the repulsion moves the positions only ([`Repulsion::act`]):
         // part of the motion from here on, never of the velocity.
         let mut push = vec![0.0; dx.len()];
-        if self.proximity(&candidates, inv_mass, &mut dx, &mut push) {
+        if self.proximity(&mut candidates, inv_mass, &mut dx, &mut push) {
             for (a, p) in dx.iter_mut().zip(&push) {
                 *a += p;
             }
@@ -344,21 +352,18 @@ impl Contacts {
         (0.5 + MARGIN) * self.repulsion.thickness
     }
 
-    /// Proximity impulses at x^n; true if any acted.
+    /// Proximity impulses at x^n, the pairs that may act measured first
+    /// (in parallel, then applied in order); true if any acted.
     fn proximity(
         &mut self,
-        candidates: &Candidates,
+        candidates: &mut Candidates,
         inv_mass: &[f64],
         dx: &mut [f64],
         push: &mut [f64],
     ) -> bool {
-        let layer = self.repulsion.thickness;
         let mut acted = false;
-        for (st, c) in candidates
-            .pairs
-            .iter()
-            .filter(|(_, c)| c.distance() < layer)
-        {
+        self.measure(candidates, dx);
+        for (st, c) in Contacts::within(candidates) {
             // A body pushes along its true normal, not its facet's.
             let c = &match self.body_normal(st, &c.w, dx, 0.0) {
                 Some(n) => geometry::Closest {
@@ -379,14 +384,15 @@ impl Contacts {
 
     /// The pairs that touch during the step from x^n along `dx`, with the
     /// normal that points from the second feature to the first as they
-    /// stood at the start. A pair whose start distance exceeds what its
-    /// nodes move relative to each other by more than the tolerance cannot
-    /// touch: its cubic is not solved.
+    /// stood at the start. A pair whose start distance (or the bound held
+    /// for it) exceeds what its nodes move relative to each other by more
+    /// than the tolerance cannot touch: its cubic is not solved.
     fn detect(&self, candidates: &Candidates, dx: &[f64]) -> Vec<Hit> {
         let x = &self.start;
         let eta = IMPACT_FRACTION * self.repulsion.thickness;
-        filter_map(&candidates.pairs, |(st, before)| {
-            if before.distance() - st.approach(dx) > eta {
+        filter_map(&candidates.pairs, |p| {
+            let st = &p.stencil();
+            if p.distance - st.approach(dx) > eta {
                 return None;
             }
             let s = st.impact(x, dx, eta)?;

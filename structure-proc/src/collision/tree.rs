@@ -264,6 +264,30 @@ impl Tree {
         }
     }
 
+    /// For each of the `primitives`, the region [`Tree::pairs`] skips as
+    /// smooth that holds it (the bodies' aside), as the number of the
+    /// region's top tree node, or [`NO_REGION`]: no pair within one region
+    /// is tested, which holds while each of its triangles stays within its
+    /// hemisphere ([`Culled::may_have_turned`]).
+    pub fn regions(&self, primitives: usize) -> Vec<u32> {
+        let mut out = vec![NO_REGION; primitives];
+        let mut stack = Vec::with_capacity(64);
+        if !self.nodes.is_empty() {
+            stack.push((0, NO_REGION));
+        }
+        while let Some((n, region)) = stack.pop() {
+            match self.nodes[n] {
+                Node::Leaf(p) => out[p] = region,
+                Node::Inner(l, r) => {
+                    let smooth = region == NO_REGION && self.smooth(n) && !self.inert[n];
+                    let region = if smooth { n as u32 } else { region };
+                    stack.extend([(r, region), (l, region)]);
+                }
+            }
+        }
+        out
+    }
+
     /// Whether node n's region cannot meet itself, or is all bodies'.
     fn smooth(&self, n: usize) -> bool {
         self.inert[n] || (self.connected[n] && self.facing[n] != FACING_NOWHERE)
@@ -340,6 +364,61 @@ fn leaf_facing(s: &Surface, p: usize, x: &[f64], dx: &[f64]) -> Facing {
         (q[1] - q[0]).cross(&(q[2] - q[0]))
     };
     facing(&normal(0.0)) & facing(&normal(1.0))
+}
+
+/// No region skipped as smooth ([`Tree::regions`]).
+pub const NO_REGION: u32 = u32::MAX;
+
+/// A triangle of a region the tree skipped as smooth, as it stood then:
+/// its nodes, its edges e₁, e₂ from its first node, and the square of how
+/// far those edges may change before its normal may have turned by
+/// [`FACING_MARGIN`]. With its edges changed by Δe₁, Δe₂, its normal
+/// e₁ × e₂ changed by at most |Δe₁||e₂| + |e₁||Δe₂| + |Δe₁||Δe₂|
+/// ≤ d(|e₁| + |e₂|) + d², d = max |Δeᵢ|, and it turned by less than the
+/// margin while that stays below sin(margin)·|e₁ × e₂|. A triangle moving
+/// without turning (a falling cloth) has Δe = 0.
+#[derive(Debug, Clone)]
+pub struct Culled {
+    nodes: [u32; 3],
+    e1: V3,
+    e2: V3,
+    reach2: f64,
+}
+
+impl Culled {
+    /// The triangle of `nodes` standing at `x`.
+    pub fn new(nodes: [usize; 3], x: &[f64]) -> Culled {
+        let at = |n: usize| V3::new(x[3 * n], x[3 * n + 1], x[3 * n + 2]);
+        let (e1, e2) = (at(nodes[1]) - at(nodes[0]), at(nodes[2]) - at(nodes[0]));
+        let b = e1.norm() + e2.norm();
+        let t = FACING_MARGIN.sin() * e1.cross(&e2).norm();
+        let reach = 0.5 * ((b * b + 4.0 * t).sqrt() - b);
+        Culled {
+            nodes: nodes.map(|n| n as u32),
+            e1,
+            e2,
+            reach2: reach * reach,
+        }
+    }
+
+    /// Whether its normal may have turned by the margin with its nodes at
+    /// `x` or at `x + dx`.
+    pub fn may_have_turned(&self, x: &[f64], dx: &[f64]) -> bool {
+        let [a, b, c] = self.nodes.map(|n| 3 * n as usize);
+        let mut most: f64 = 0.0;
+        for s in [0.0, 1.0] {
+            let (mut d1, mut d2) = (0.0, 0.0);
+            for k in 0..3 {
+                let p = |i: usize| x[i + k] + s * dx[i + k];
+                let f1 = p(b) - p(a) - self.e1[k];
+                let f2 = p(c) - p(a) - self.e2[k];
+                d1 += f1 * f1;
+                d2 += f2 * f2;
+            }
+            most = most.max(d1).max(d2);
+        }
+        most >= self.reach2
+    }
 }
 
 /// Whether `prims` are triangles forming one piece through shared nodes.
