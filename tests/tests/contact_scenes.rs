@@ -54,10 +54,7 @@ fn a_cloth_on_strings_meets_them_then_they_meet_then_it_meets_itself_and_nothing
     let dir = scratch("cloth-strings");
     let scenario = variant("cloth-strings", &dir, |s| {
         s.run.end_time = 1.5;
-        s.coupling.structure_substeps = 10;
-        let st = s.structure.as_mut().unwrap();
-        st.disk.as_mut().unwrap().rings = 10;
-        st.cords[0].segments = 20;
+        coarse_cloth_strings(s);
     });
     let out = dir.join("run");
     run_ok(&scenario, &out);

@@ -243,6 +243,30 @@ fn a_killed_cloth_in_contact_with_balls_restarts_to_the_same_results() {
     restart_matches_whole_run("ball-cloth", &scenario, &dir, &["structure", "rigid"]);
 }
 
+/// The cloth falling on strings (`cloth-strings`, on the coarse mesh of
+/// its scene test) killed at 0.2 s, as it lies on the strings, and gone
+/// on with to 0.5 s, through the strings' first contacts with each other
+/// (from 0.32 s): held candidates, lower bounds on their distances and the
+/// tree's skipped regions are not in the checkpoint, and the restart gives
+/// the same impulses.
+#[test]
+fn a_killed_cloth_on_strings_restarts_to_the_same_results() {
+    let dir = scratch("restart-strings");
+    let scenario = variant("cloth-strings", &dir, |s| {
+        s.run.end_time = 0.5;
+        s.run.output_interval = 0.1;
+        s.run.checkpoint_interval = Some(0.2);
+        coarse_cloth_strings(s);
+    });
+    restart_matches_whole_run("cloth-strings", &scenario, &dir, &["structure"]);
+    let m = Monitors::read(&dir.join("whole"));
+    let strings = m.column("structure.contact.string_string");
+    assert!(
+        strings.last().is_some_and(|&n| n > 0.0),
+        "the strings never met"
+    );
+}
+
 /// The Sod shock tube of the euler model, on 2 000 cells so that it runs
 /// long enough to be killed, on two MPI ranks where MPI is installed:
 /// each rank's conserved cells and the time.

@@ -16,9 +16,10 @@
 //! crumpled cloth are layers apart and moving together; they cost a few
 //! subtractions a step.
 
+use super::culled::{culled, Culled};
 use super::geometry::{Closest, Kind, Stencil};
 use super::sweep::Sweep;
-use super::tree::{Culled, NO_REGION};
+use super::tree::NO_REGION;
 use super::{filter_map, Contacts, MARGIN, PARALLEL_ITEMS};
 use rayon::prelude::*;
 
@@ -36,6 +37,12 @@ pub const LOOKAHEAD: f64 = 8.0;
 /// tree skipped as smooth seldom turn by its margin while they are held
 /// (which would have the candidates found anew).
 pub const LOOKAHEAD_LAYERS: f64 = 2.0;
+
+/// A held pair's bound is lowered by this fraction of the layer at every
+/// step beyond its nodes' motion: more than the round-off of a distance
+/// between features hundreds of metres from the origin (10⁻¹³ m) for a
+/// layer of a millimetre.
+const ROUNDING: f64 = 1e-9;
 
 /// The held pairs are measured in this many chunks, each on one thread
 /// (rayon's pool shares them out).
@@ -90,24 +97,25 @@ pub(super) struct Candidates {
     /// within its own, grown by [`MARGIN`] layers along every axis...
     pub reference: Sweep,
     /// ... and every triangle of the regions the tree skipped as smooth
-    /// stays within 15° of its normal when the search was made, so that
-    /// its region still faces its hemisphere (`tree.rs`): then no two of
-    /// its triangles can meet, whichever of their nodes left their boxes.
+    /// has turned by less than its allowance since the search, so that
+    /// its region still faces its hemisphere with the tree's margin
+    /// (`culled.rs`): a test of the region anew would skip it too.
     culled: Vec<Culled>,
     /// Each primitive's region skipped as smooth ([`NO_REGION`] if none):
     /// pairs found again node by node skip those within one region, as
     /// the search did.
-    region: Vec<u32>,
+    region: Vec<usize>,
     /// The pairs found within the layer in this step with their nearest
     /// points, in order, in [`MEASURED_CHUNKS`] lists that measure them in
-    /// parallel: kept from step to step, so that a held step allocates
-    /// nothing and the impulses read them one after the other.
+    /// parallel: kept from step to step, so that measuring allocates
+    /// nothing, and the impulses read them one after the other.
     near: Vec<Vec<(Stencil, Closest)>>,
 }
 
 impl Contacts {
     /// The candidates for this step, moving by `dx`: those held from the
-    /// last step, measured again and brought up to date, or found anew.
+    /// last step with their distances bounded anew and brought up to date,
+    /// or found anew.
     pub(super) fn step_candidates(&mut self, dx: &[f64]) -> Candidates {
         match self.held.take() {
             Some(c) if c.at.len() == self.start.len() => {
@@ -121,10 +129,13 @@ impl Contacts {
     /// `c` with its distances bounded at this step's start: each lowered
     /// by the largest motion of a node of one feature relative to a node
     /// of the other since `c.at` (the features' points are weighted means
-    /// of their nodes, so no two of them came closer by more).
+    /// of their nodes, so no two of them came closer by more), and by
+    /// [`ROUNDING`] of the layer, so that round-off never leaves a bound
+    /// above the distance a run restarted here would measure.
     fn brought_up(&self, mut c: Candidates) -> Candidates {
         let moved: Vec<f64> = self.start.iter().zip(&c.at).map(|(a, b)| a - b).collect();
-        let lower = |p: &mut Pair| p.distance -= p.stencil().approach(&moved);
+        let rounding = ROUNDING * self.repulsion.thickness;
+        let lower = |p: &mut Pair| p.distance -= p.stencil().approach(&moved) + rounding;
         for_each_mut(&mut c.pairs, lower);
         c.at.copy_from_slice(&self.start);
         c
@@ -193,10 +204,7 @@ impl Contacts {
             pairs: self.candidates(&reference),
             at: self.start.clone(),
             reference,
-            culled: (0..region.len())
-                .filter(|&p| region[p] != NO_REGION)
-                .map(|p| Culled::new(self.surface.nodes[p], &self.start))
-                .collect(),
+            culled: culled(&self.tree, &self.surface, &region, &self.start),
             region,
             near: Vec::new(),
         }
@@ -213,11 +221,10 @@ impl Contacts {
             .map(|n| !c.reference.holds(&now, n, margin))
             .collect();
         let count = drifted.iter().filter(|&&d| d).count();
-        let turned = self.turned(&c, dx);
-        if count == 0 && !turned {
-            c
-        } else if turned || count * SEARCH_AGAIN > drifted.len() {
+        if count * SEARCH_AGAIN > drifted.len() || self.turned(&c, dx) {
             self.refreshed(dx)
+        } else if count == 0 {
+            c
         } else {
             self.updated(c, dx, &drifted)
         }

@@ -31,6 +31,7 @@
 mod bodies;
 mod candidates;
 mod carried;
+mod culled;
 pub mod geometry;
 mod impulse;
 pub mod intersections;

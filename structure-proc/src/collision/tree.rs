@@ -51,7 +51,7 @@ type Facing = u32;
 /// hemisphere while its normals turn by less than this after the test
 /// (impulses within the margin), and two triangles folded onto each other
 /// more sharply than 2 × 15° are never culled, whatever their tilt.
-const FACING_MARGIN: f64 = 15.0 * std::f64::consts::PI / 180.0;
+pub const FACING_MARGIN: f64 = 15.0 * std::f64::consts::PI / 180.0;
 
 /// No direction: strings, degenerate or flipping triangles.
 const FACING_NOWHERE: Facing = 0;
@@ -63,32 +63,43 @@ const FACING_NOWHERE: Facing = 0;
 /// compared with sin(margin)·|n|·|direction|.
 #[inline(always)]
 fn facing(n: &V3) -> Facing {
-    let (x, y, z) = (n.x, n.y, n.z);
     let unit = FACING_MARGIN.sin() * n.norm();
-    let (two, three) = (unit * std::f64::consts::SQRT_2, unit * 3f64.sqrt());
-    let least = [
-        unit, unit, unit, two, two, two, two, two, two, three, three, three, three,
-    ];
-    let along = [
-        x,
-        y,
-        z,
-        x + y,
-        x - y,
-        x + z,
-        x - z,
-        y + z,
-        y - z,
-        x + y + z,
-        x + y - z,
-        x - y + z,
-        x - y - z,
-    ];
     let mut bits = 0;
-    for (k, (v, t)) in along.iter().zip(least).enumerate() {
-        bits |= ((*v > t) as Facing) << k | ((*v < -t) as Facing) << (k + 13);
+    for (k, a) in AXES.iter().enumerate() {
+        let along = a[0] * n.x + a[1] * n.y + a[2] * n.z;
+        let least = unit * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        bits |= ((along > least) as Facing) << k | ((along < -least) as Facing) << (k + 13);
     }
     bits
+}
+
+/// The 13 directions of [`Facing`]'s bits 0–12 (their opposites are bits
+/// 13–25), not normalised: the cube's faces, edges and corners.
+const AXES: [[f64; 3]; 13] = [
+    [1., 0., 0.],
+    [0., 1., 0.],
+    [0., 0., 1.],
+    [1., 1., 0.],
+    [1., -1., 0.],
+    [1., 0., 1.],
+    [1., 0., -1.],
+    [0., 1., 1.],
+    [0., 1., -1.],
+    [1., 1., 1.],
+    [1., 1., -1.],
+    [1., -1., 1.],
+    [1., -1., -1.],
+];
+
+/// The unit direction of [`Facing`]'s bit k.
+fn direction(k: usize) -> V3 {
+    let a = AXES[k % 13];
+    let d = V3::new(a[0], a[1], a[2]).normalize();
+    if k < 13 {
+        d
+    } else {
+        -d
+    }
 }
 
 #[derive(Debug, Clone, Default)]
@@ -267,9 +278,8 @@ impl Tree {
     /// For each of the `primitives`, the region [`Tree::pairs`] skips as
     /// smooth that holds it (the bodies' aside), as the number of the
     /// region's top tree node, or [`NO_REGION`]: no pair within one region
-    /// is tested, which holds while each of its triangles stays within its
-    /// hemisphere ([`Culled::may_have_turned`]).
-    pub fn regions(&self, primitives: usize) -> Vec<u32> {
+    /// is tested.
+    pub fn regions(&self, primitives: usize) -> Vec<usize> {
         let mut out = vec![NO_REGION; primitives];
         let mut stack = Vec::with_capacity(64);
         if !self.nodes.is_empty() {
@@ -280,12 +290,19 @@ impl Tree {
                 Node::Leaf(p) => out[p] = region,
                 Node::Inner(l, r) => {
                     let smooth = region == NO_REGION && self.smooth(n) && !self.inert[n];
-                    let region = if smooth { n as u32 } else { region };
+                    let region = if smooth { n } else { region };
                     stack.extend([(r, region), (l, region)]);
                 }
             }
         }
         out
+    }
+
+    /// The unit directions whose hemispheres, with the margin, hold every
+    /// normal of the region of [`Tree::regions`] numbered `region`.
+    pub fn directions(&self, region: usize) -> impl Iterator<Item = V3> + '_ {
+        let bits = self.facing[region];
+        (0..26).filter(move |k| bits >> k & 1 == 1).map(direction)
     }
 
     /// Whether node n's region cannot meet itself, or is all bodies'.
@@ -367,59 +384,7 @@ fn leaf_facing(s: &Surface, p: usize, x: &[f64], dx: &[f64]) -> Facing {
 }
 
 /// No region skipped as smooth ([`Tree::regions`]).
-pub const NO_REGION: u32 = u32::MAX;
-
-/// A triangle of a region the tree skipped as smooth, as it stood then:
-/// its nodes, its edges e₁, e₂ from its first node, and the square of how
-/// far those edges may change before its normal may have turned by
-/// [`FACING_MARGIN`]. With its edges changed by Δe₁, Δe₂, its normal
-/// e₁ × e₂ changed by at most |Δe₁||e₂| + |e₁||Δe₂| + |Δe₁||Δe₂|
-/// ≤ d(|e₁| + |e₂|) + d², d = max |Δeᵢ|, and it turned by less than the
-/// margin while that stays below sin(margin)·|e₁ × e₂|. A triangle moving
-/// without turning (a falling cloth) has Δe = 0.
-#[derive(Debug, Clone)]
-pub struct Culled {
-    nodes: [u32; 3],
-    e1: V3,
-    e2: V3,
-    reach2: f64,
-}
-
-impl Culled {
-    /// The triangle of `nodes` standing at `x`.
-    pub fn new(nodes: [usize; 3], x: &[f64]) -> Culled {
-        let at = |n: usize| V3::new(x[3 * n], x[3 * n + 1], x[3 * n + 2]);
-        let (e1, e2) = (at(nodes[1]) - at(nodes[0]), at(nodes[2]) - at(nodes[0]));
-        let b = e1.norm() + e2.norm();
-        let t = FACING_MARGIN.sin() * e1.cross(&e2).norm();
-        let reach = 0.5 * ((b * b + 4.0 * t).sqrt() - b);
-        Culled {
-            nodes: nodes.map(|n| n as u32),
-            e1,
-            e2,
-            reach2: reach * reach,
-        }
-    }
-
-    /// Whether its normal may have turned by the margin with its nodes at
-    /// `x` or at `x + dx`.
-    pub fn may_have_turned(&self, x: &[f64], dx: &[f64]) -> bool {
-        let [a, b, c] = self.nodes.map(|n| 3 * n as usize);
-        let mut most: f64 = 0.0;
-        for s in [0.0, 1.0] {
-            let (mut d1, mut d2) = (0.0, 0.0);
-            for k in 0..3 {
-                let p = |i: usize| x[i + k] + s * dx[i + k];
-                let f1 = p(b) - p(a) - self.e1[k];
-                let f2 = p(c) - p(a) - self.e2[k];
-                d1 += f1 * f1;
-                d2 += f2 * f2;
-            }
-            most = most.max(d1).max(d2);
-        }
-        most >= self.reach2
-    }
-}
+pub const NO_REGION: usize = usize::MAX;
 
 /// Whether `prims` are triangles forming one piece through shared nodes.
 fn is_connected(s: &Surface, prims: &[usize]) -> bool {
