@@ -230,9 +230,9 @@ impl Contacts {
         }
     }
 
-    /// Whether a culled triangle of `c` may have turned by the tree's
-    /// margin since the search, at the start or the end of the step moving
-    /// by `dx`.
+    /// Whether a culled triangle of `c` may have turned by more than its
+    /// allowance since the search, at the start or the end of the step
+    /// moving by `dx`.
     fn turned(&self, c: &Candidates, dx: &[f64]) -> bool {
         let turns = |t: &Culled| t.may_have_turned(&self.start, dx);
         if c.culled.len() < PARALLEL_ITEMS {
@@ -263,8 +263,8 @@ impl Contacts {
             self.tree.overlapping(&lo, &hi, &mut others);
             let mut near = Vec::new();
             for q in others {
-                // A pair of two touched primitives is visited from its first.
                 let smooth = c.region[p] != NO_REGION && c.region[p] == c.region[q];
+                // A pair of two touched primitives is visited from its first.
                 if q == p
                     || (q < p && moved(q))
                     || (self.surface.is_body(p) && self.surface.is_body(q))

@@ -76,13 +76,17 @@ fn edges(nodes: [usize; 3], x: &[f64]) -> (V3, V3) {
 /// region's summed normal, and its normal n̂ points into it by the angle
 /// asin(n̂·d̂), more than the margin (the tree tested it so).
 pub fn culled(tree: &Tree, s: &Surface, region: &[usize], x: &[f64]) -> Vec<Culled> {
-    let normal = |p: usize| {
-        let (e1, e2) = edges(s.nodes[p], x);
-        e1.cross(&e2)
-    };
+    // Each skipped triangle with its normal at `x`, computed once.
+    let normals: Vec<(usize, V3)> = (0..region.len())
+        .filter(|&p| region[p] != NO_REGION)
+        .map(|p| {
+            let (e1, e2) = edges(s.nodes[p], x);
+            (p, e1.cross(&e2))
+        })
+        .collect();
     let mut summed = std::collections::BTreeMap::<usize, V3>::new();
-    for (p, &r) in region.iter().enumerate().filter(|(_, &r)| r != NO_REGION) {
-        *summed.entry(r).or_insert_with(V3::zeros) += normal(p);
+    for (p, n) in &normals {
+        *summed.entry(region[*p]).or_insert_with(V3::zeros) += n;
     }
     let hemisphere: std::collections::BTreeMap<usize, V3> = summed
         .into_iter()
@@ -94,15 +98,15 @@ pub fn culled(tree: &Tree, s: &Surface, region: &[usize], x: &[f64]) -> Vec<Cull
             (r, best.expect("a skipped region faces a direction"))
         })
         .collect();
-    let allowed = |p: usize, d: &V3| {
-        let inside = normal(p).try_normalize(1e-300).map_or(0.0, |n| n.dot(d));
+    let allowed = |n: &V3, d: &V3| {
+        let inside = n.try_normalize(1e-300).map_or(0.0, |n| n.dot(d));
         (inside.clamp(-1.0, 1.0).asin() - FACING_MARGIN)
             .max(0.0)
             .sin()
     };
-    (0..region.len())
-        .filter(|&p| region[p] != NO_REGION)
-        .map(|p| Culled::new(s.nodes[p], x, allowed(p, &hemisphere[&region[p]])))
+    normals
+        .iter()
+        .map(|(p, n)| Culled::new(s.nodes[*p], x, allowed(n, &hemisphere[&region[*p]])))
         .collect()
 }
 

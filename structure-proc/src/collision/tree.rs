@@ -65,9 +65,9 @@ const FACING_NOWHERE: Facing = 0;
 fn facing(n: &V3) -> Facing {
     let unit = FACING_MARGIN.sin() * n.norm();
     let mut bits = 0;
-    for (k, a) in AXES.iter().enumerate() {
+    for (k, (a, length)) in AXES.iter().zip(AXIS_LENGTHS).enumerate() {
         let along = a[0] * n.x + a[1] * n.y + a[2] * n.z;
-        let least = unit * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        let least = unit * length;
         bits |= ((along > least) as Facing) << k | ((along < -least) as Facing) << (k + 13);
     }
     bits
@@ -90,6 +90,17 @@ const AXES: [[f64; 3]; 13] = [
     [1., -1., 1.],
     [1., -1., -1.],
 ];
+
+/// The lengths of [`AXES`] (√3 correctly rounded), so that facing a
+/// direction costs no square root.
+const AXIS_LENGTHS: [f64; 13] = {
+    use std::f64::consts::SQRT_2;
+    const SQRT_3: f64 = 1.7320508075688772;
+    [
+        1.0, 1.0, 1.0, SQRT_2, SQRT_2, SQRT_2, SQRT_2, SQRT_2, SQRT_2, SQRT_3, SQRT_3, SQRT_3,
+        SQRT_3,
+    ]
+};
 
 /// The unit direction of [`Facing`]'s bit k.
 fn direction(k: usize) -> V3 {
@@ -427,6 +438,16 @@ mod tests {
         let dx = vec![0.0; x.len()];
         t.refit(&s, &x, &dx, &Sweep::new(&x, &dx), 0.1);
         assert_eq!(t.pairs(), vec![(0, 1)]);
+    }
+
+    /// The table of the directions' lengths is their square roots, to the
+    /// last bit (the facing test compares with it).
+    #[test]
+    fn the_axis_lengths_are_the_axes_lengths() {
+        for (a, length) in AXES.iter().zip(AXIS_LENGTHS) {
+            let exact = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            assert_eq!(exact.to_bits(), length.to_bits(), "{a:?}");
+        }
     }
 
     #[test]
