@@ -11,24 +11,13 @@
 
 mod common;
 
-use common::cloth_section;
+use common::{cloth_section, spring_cloth};
 use criterion::{
     black_box, criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput,
 };
 use structure_proc::forces::Loads;
 use structure_proc::{build_model, integrator, Model};
-use structure_section::{Damping, Integrator as Scheme};
-
-/// The cloth with uniform springs on its edges plus bending springs, undamped.
-fn spring_cloth(n: u32) -> Model {
-    let (mut section, dt) = cloth_section(n);
-    section.damping = Damping::None;
-    section.damping_coefficient = None;
-    let fabric = &mut section.cloth.as_mut().unwrap().fabric;
-    fabric.membrane = None;
-    fabric.stiffness = Some(100.0);
-    build_model(&section, None, dt).expect("cloth builds")
-}
+use structure_section::Integrator as Scheme;
 
 fn pool(threads: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
