@@ -29,6 +29,32 @@ pub struct Damper {
     pub slack_below: f64,
 }
 
+/// Delingette's triangular springs of a membrane (dissertation eqs.
+/// 2.29–2.37): the edges' rest lengths and the stiffness matrix Q.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Membrane {
+    pub nodes: [usize; 3],
+    /// Rest lengths of the edges (0→1, 1→2, 2→0) [m].
+    pub rest: [f64; 3],
+    /// Q, row by row [N/m]: the edges' tensions are Q·dl.
+    pub q: [[f64; 3]; 3],
+}
+
+/// The Darcy–Forchheimer load of a free stream through the canopy
+/// (thesis eqs. 6–10, the `porous` crate's law).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Porous {
+    /// The air's velocity [m/s].
+    pub free_stream: [f64; 3],
+    /// Darcy coefficient A [Pa·s/m²] (thesis eq. 7).
+    pub a: f64,
+    /// Forchheimer coefficient B [Pa·s²/m³] (thesis eq. 8).
+    pub b: f64,
+    pub porosity: f64,
+    /// The fabric's thickness [m].
+    pub thickness: f64,
+}
+
 /// How the dampers act.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DampingLaw {
@@ -48,9 +74,16 @@ pub struct Network {
     /// [m/s²].
     pub gravity: [f64; 3],
     pub springs: Vec<Spring>,
+    pub membrane: Vec<Membrane>,
     pub dampers: Vec<Damper>,
     /// The dampers' law; `None` leaves them out.
     pub damping: Option<DampingLaw>,
+    /// The triangles a pressure jump pushes (a third of jump·area·n on each
+    /// vertex, counter-clockwise seen along n): the fluid's jump, set by
+    /// [`crate::Solver::set_pressure`], plus the porous law's. Empty where
+    /// neither acts.
+    pub triangles: Vec<[usize; 3]>,
+    pub porous: Option<Porous>,
 }
 
 impl Network {
@@ -66,34 +99,84 @@ impl Network {
         }
     }
 
-    /// Both ends of every spring, then of every acting damper.
-    pub(crate) fn ends(&self) -> Result<Vec<u32>, GpuError> {
-        let springs = self.springs.iter().map(|s| (s.i, s.j));
-        let dampers = self.acting_dampers().iter().map(|d| (d.i, d.j));
-        let mut out = Vec::with_capacity(2 * (self.springs.len() + self.acting_dampers().len()));
-        for (i, j) in springs.chain(dampers) {
-            assert!(
-                i < self.nodes() && j < self.nodes(),
-                "an element's node is past the network's {} nodes",
-                self.nodes()
-            );
-            out.push(u32::try_from(i).map_err(|_| GpuError::TooManyElements("the nodes"))?);
-            out.push(u32::try_from(j).map_err(|_| GpuError::TooManyElements("the nodes"))?);
-        }
-        Ok(out)
+    /// The nodes of every element, family by family: springs (2 each),
+    /// membrane triangles (3), acting dampers (2), pressure triangles (3).
+    pub(crate) fn element_nodes(&self) -> Result<Vec<u32>, GpuError> {
+        let springs = self.springs.iter().flat_map(|s| [s.i, s.j]);
+        let membrane = self.membrane.iter().flat_map(|t| t.nodes);
+        let dampers = self.acting_dampers().iter().flat_map(|d| [d.i, d.j]);
+        let triangles = self.triangles.iter().flatten().copied();
+        springs
+            .chain(membrane)
+            .chain(dampers)
+            .chain(triangles)
+            .map(|n| {
+                assert!(
+                    n < self.nodes(),
+                    "an element's node is past the network's {} nodes",
+                    self.nodes()
+                );
+                u32::try_from(n).map_err(|_| GpuError::TooManyElements("the nodes"))
+            })
+            .collect()
     }
 
-    /// Four reals an element: k, rest, eps, string (springs); c, slack, 0, 0 (dampers).
+    /// The elements' reals, family by family: springs k, rest, eps, 1 for a
+    /// string (4 each); membrane rest lengths then Q by rows (12);
+    /// dampers c, slack length (2).
     pub(crate) fn element_reals(&self) -> Vec<f64> {
+        let flag = |s: &Spring| if s.tension_only { 1.0 } else { 0.0 };
         let springs = self
             .springs
             .iter()
-            .map(|s| [s.k, s.rest, s.eps, if s.tension_only { 1.0 } else { 0.0 }]);
+            .flat_map(|s| [s.k, s.rest, s.eps, flag(s)]);
+        let membrane = self
+            .membrane
+            .iter()
+            .flat_map(|t| t.rest.into_iter().chain(t.q.into_iter().flatten()));
         let dampers = self
             .acting_dampers()
             .iter()
-            .map(|d| [d.c, d.slack_below, 0.0, 0.0]);
-        springs.chain(dampers).flatten().collect()
+            .flat_map(|d| [d.c, d.slack_below]);
+        springs.chain(membrane).chain(dampers).collect()
+    }
+
+    /// Slots, one per spring, membrane edge, acting damper and pressure triangle.
+    pub(crate) fn slots(&self) -> usize {
+        self.springs.len()
+            + 3 * self.membrane.len()
+            + self.acting_dampers().len()
+            + self.triangles.len()
+    }
+
+    /// Every contribution as (node, slot, subtracted), in the order
+    /// structure-proc's CPU assembly sums them: springs, membrane edges,
+    /// dampers (the first node adds, the second subtracts), then the
+    /// pressure triangles (every vertex adds).
+    fn touches(&self) -> Vec<(usize, usize, bool)> {
+        let mut out = Vec::new();
+        let mut slot = 0;
+        let mut pair = |out: &mut Vec<_>, i: usize, j: usize| {
+            out.push((i, slot, false));
+            out.push((j, slot, true));
+            slot += 1;
+        };
+        for s in &self.springs {
+            pair(&mut out, s.i, s.j);
+        }
+        for t in &self.membrane {
+            for (a, b) in EDGES {
+                pair(&mut out, t.nodes[a], t.nodes[b]);
+            }
+        }
+        for d in self.acting_dampers() {
+            pair(&mut out, d.i, d.j);
+        }
+        for tri in &self.triangles {
+            out.extend(tri.map(|n| (n, slot, false)));
+            slot += 1;
+        }
+        out
     }
 
     /// Mass and 1/m, node by node.
@@ -111,29 +194,31 @@ impl Network {
     }
 
     /// start[0..=nodes], then slot << 1 | subtracted: which slots each node
-    /// sums, in the order structure-proc's CPU assembly sums them (springs,
-    /// then dampers; the first node adds, the second subtracts).
+    /// sums, in the order of [`Network::touches`].
     pub(crate) fn assembly(&self) -> Result<Vec<u32>, GpuError> {
-        let ends = self.ends()?;
+        let touches = self.touches();
         let nodes = self.nodes();
-        if 2 * ends.len() >= u32::MAX as usize || nodes >= u32::MAX as usize / 2 {
-            return Err(GpuError::TooManyElements("the springs and dampers"));
+        if 2 * self.slots() >= u32::MAX as usize || nodes + touches.len() >= u32::MAX as usize {
+            return Err(GpuError::TooManyElements("the elements"));
         }
         let mut start = vec![0u32; nodes + 1];
-        for &n in &ends {
-            start[n as usize + 1] += 1;
+        for &(n, _, _) in &touches {
+            start[n + 1] += 1;
         }
         for n in 0..nodes {
             start[n + 1] += start[n];
         }
         let mut next = start.clone();
-        let mut entries = vec![0u32; ends.len()];
-        for (e, &n) in ends.iter().enumerate() {
-            // Entry e is end e % 2 of slot e / 2.
-            entries[next[n as usize] as usize] = ((e / 2) as u32) << 1 | (e % 2) as u32;
-            next[n as usize] += 1;
+        let mut entries = vec![0u32; touches.len()];
+        for (n, slot, minus) in touches {
+            entries[next[n] as usize] = (slot as u32) << 1 | minus as u32;
+            next[n] += 1;
         }
         start.extend(entries);
         Ok(start)
     }
 }
+
+/// A membrane triangle's edges as (from, to) vertex pairs, as structure-proc's
+/// `forces/delingette.rs` orders them.
+const EDGES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];

@@ -10,6 +10,9 @@ use wgpu::util::DeviceExt;
 /// Threads per workgroup (the kernels' `@workgroup_size`).
 const WORKGROUP: u32 = 64;
 
+/// Where the step's coefficients start in the params buffer (the kernels' COEFS).
+const COEFS: usize = 10;
+
 /// Steps encoded in one command buffer: long runs are submitted in pieces.
 const STEPS_PER_SUBMIT: u64 = 256;
 
@@ -20,18 +23,121 @@ struct Pipelines {
     combine: wgpu::ComputePipeline,
 }
 
+/// The device's buffers, bound at the kernels' binding numbers (0–6, 8).
+struct Buffers {
+    /// 0: the vectors (positions, velocities, forces, stage values).
+    vecs: wgpu::Buffer,
+    /// 1: the element slots.
+    slots: wgpu::Buffer,
+    /// 2–5: the elements' nodes and reals, the nodes' masses, the assembly.
+    element_nodes: wgpu::Buffer,
+    elements: wgpu::Buffer,
+    nodes: wgpu::Buffer,
+    assembly: wgpu::Buffer,
+    /// 6: gravity, the porous law, the step's coefficients.
+    params: wgpu::Buffer,
+    /// 8: the fluid's pressure jump per pressure triangle.
+    received: wgpu::Buffer,
+}
+
+impl Buffers {
+    fn new(
+        device: &wgpu::Device,
+        p: Precision,
+        net: &Network,
+        scheme: Scheme,
+    ) -> Result<Buffers, GpuError> {
+        let state_bytes = 3 * (net.nodes() * scheme.vectors() as usize * p.size()) as u64;
+        check_size(device, "the state", state_bytes)?;
+        check_size(
+            device,
+            "the element slots",
+            (3 * net.slots() * p.size()) as u64,
+        )?;
+        let storage = wgpu::BufferUsages::STORAGE;
+        let copied = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let reals =
+            |label, values: &[f64], usage| buffer(device, label, &padded(p.bytes(values)), usage);
+        let words = |label, values: &[u32]| {
+            buffer(
+                device,
+                label,
+                &padded(bytemuck::cast_slice(values).to_vec()),
+                storage,
+            )
+        };
+        let mut params = net.gravity.to_vec();
+        if let Some(law) = &net.porous {
+            params.extend(law.free_stream);
+            params.extend([law.a, law.b, law.porosity, law.thickness]);
+        }
+        params.resize(COEFS + scheme.passes().len(), 0.0);
+        Ok(Buffers {
+            vecs: reals("state", &vec![0.0; state_bytes as usize / p.size()], copied),
+            slots: reals("slots", &vec![0.0; 3 * net.slots()], storage),
+            element_nodes: words("element nodes", &net.element_nodes()?),
+            elements: reals("elements", &net.element_reals(), storage),
+            nodes: reals("nodes", &net.node_reals(), storage),
+            assembly: words("assembly", &net.assembly()?),
+            params: reals("params", &params, copied),
+            received: reals("received", &vec![0.0; net.triangles.len()], copied),
+        })
+    }
+
+    /// The bind group of these buffers and the op records `ops`.
+    fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        ops: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let storage = [
+            (0, &self.vecs),
+            (1, &self.slots),
+            (2, &self.element_nodes),
+            (3, &self.elements),
+            (4, &self.nodes),
+            (5, &self.assembly),
+            (6, &self.params),
+            (8, &self.received),
+        ];
+        let mut entries: Vec<wgpu::BindGroupEntry> = storage
+            .iter()
+            .map(|&(binding, buf)| wgpu::BindGroupEntry {
+                binding,
+                resource: buf.as_entire_binding(),
+            })
+            .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: 7,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: ops,
+                offset: 0,
+                size: wgpu::BufferSize::new(16),
+            }),
+        });
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("structure"),
+            layout,
+            entries: &entries,
+        })
+    }
+}
+
 /// A network on the device under one explicit scheme.
 pub struct Solver {
     device: wgpu::Device,
     queue: wgpu::Queue,
     precision: Precision,
     nodes: usize,
+    /// Threads of the element pass: springs, membrane triangles, dampers
+    /// and pressure triangles.
     elements: u32,
+    triangles: usize,
     passes: Vec<Pass>,
     pipelines: Pipelines,
+    buffers: Buffers,
     bind_group: wgpu::BindGroup,
-    vecs: wgpu::Buffer,
-    params: wgpu::Buffer,
     /// One op record per pass, `op_stride` bytes apart.
     op_stride: u32,
     readback: wgpu::Buffer,
@@ -45,51 +151,14 @@ impl Solver {
     pub fn new(gpu: &Gpu, net: &Network, scheme: Scheme) -> Result<Solver, GpuError> {
         let device = gpu.device.clone();
         let precision = gpu.precision();
-        let nodes = net.nodes();
-        let elements = u32::try_from(net.springs.len() + net.acting_dampers().len())
-            .map_err(|_| GpuError::TooManyElements("the springs and dampers"))?;
+        let items = net.springs.len()
+            + net.membrane.len()
+            + net.acting_dampers().len()
+            + net.triangles.len();
+        let elements =
+            u32::try_from(items).map_err(|_| GpuError::TooManyElements("the elements"))?;
         let passes = scheme.passes();
-        let vec_len = 3 * nodes as u64 * precision.size() as u64;
-        check_size(&device, "the state", vec_len * scheme.vectors() as u64)?;
-        check_size(
-            &device,
-            "the element slots",
-            3 * elements as u64 * precision.size() as u64,
-        )?;
-
-        let storage = wgpu::BufferUsages::STORAGE;
-        let reals = |label, values: &[f64]| {
-            buffer(&device, label, &padded(precision.bytes(values)), storage)
-        };
-        let vecs = buffer(
-            &device,
-            "state",
-            &vec![0u8; (vec_len * scheme.vectors() as u64) as usize],
-            storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-        );
-        let slots = reals("slots", &vec![0.0; 3 * elements as usize]);
-        let ends = buffer(
-            &device,
-            "ends",
-            &padded(bytemuck::cast_slice(&net.ends()?).to_vec()),
-            storage,
-        );
-        let element_reals = reals("elements", &net.element_reals());
-        let node_reals = reals("nodes", &net.node_reals());
-        let assembly = buffer(
-            &device,
-            "assembly",
-            bytemuck::cast_slice(&net.assembly()?),
-            storage,
-        );
-        let mut params = net.gravity.to_vec();
-        params.resize(3 + passes.len(), 0.0);
-        let params = buffer(
-            &device,
-            "params",
-            &precision.bytes(&params),
-            storage | wgpu::BufferUsages::COPY_DST,
-        );
+        let buffers = Buffers::new(&device, precision, net, scheme)?;
         let op_stride = 16u32.max(device.limits().min_uniform_buffer_offset_alignment);
         let ops = buffer(
             &device,
@@ -99,39 +168,10 @@ impl Solver {
         );
         let layout = bind_group_layout(&device);
         let pipelines = pipelines(&device, &layout, &source(precision, net))?;
-        let storage_buffers = [
-            &vecs,
-            &slots,
-            &ends,
-            &element_reals,
-            &node_reals,
-            &assembly,
-            &params,
-        ];
-        let mut entries: Vec<wgpu::BindGroupEntry> = storage_buffers
-            .iter()
-            .enumerate()
-            .map(|(b, buf)| wgpu::BindGroupEntry {
-                binding: b as u32,
-                resource: buf.as_entire_binding(),
-            })
-            .collect();
-        entries.push(wgpu::BindGroupEntry {
-            binding: 7,
-            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer: &ops,
-                offset: 0,
-                size: wgpu::BufferSize::new(16),
-            }),
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("structure"),
-            layout: &layout,
-            entries: &entries,
-        });
+        let bind_group = buffers.bind_group(&device, &layout, &ops);
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
-            size: 2 * vec_len,
+            size: (6 * net.nodes() * precision.size()) as u64,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -139,13 +179,13 @@ impl Solver {
             device,
             queue: gpu.queue.clone(),
             precision,
-            nodes,
+            nodes: net.nodes(),
             elements,
+            triangles: net.triangles.len(),
             passes,
             pipelines,
+            buffers,
             bind_group,
-            vecs,
-            params,
             op_stride,
             readback,
             h: None,
@@ -165,7 +205,17 @@ impl Solver {
         let mut both = x.to_vec();
         both.extend_from_slice(v);
         self.queue
-            .write_buffer(&self.vecs, 0, &self.precision.bytes(&both));
+            .write_buffer(&self.buffers.vecs, 0, &self.precision.bytes(&both));
+    }
+
+    /// Set the fluid's pressure jump on each of the network's pressure
+    /// triangles [Pa], held until set again (zero until first set).
+    pub fn set_pressure(&mut self, jump: &[f64]) {
+        assert_eq!(jump.len(), self.triangles, "a jump per pressure triangle");
+        if !jump.is_empty() {
+            self.queue
+                .write_buffer(&self.buffers.received, 0, &self.precision.bytes(jump));
+        }
     }
 
     /// Advance the state on the device by `steps` steps of `h` [s]. Returns
@@ -180,9 +230,9 @@ impl Solver {
                     _ => 0.0,
                 })
                 .collect();
-            let at = 3 * self.precision.size() as u64;
+            let at = (COEFS * self.precision.size()) as u64;
             self.queue
-                .write_buffer(&self.params, at, &self.precision.bytes(&coefs));
+                .write_buffer(&self.buffers.params, at, &self.precision.bytes(&coefs));
             self.h = Some(h);
         }
         self.device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -229,7 +279,7 @@ impl Solver {
         let mut encoder = self.device.create_command_encoder(&Default::default());
         // X and V are the state's first two vectors, one after the other.
         const { assert!(vector::X == 0 && vector::V == 1) };
-        encoder.copy_buffer_to_buffer(&self.vecs, 0, &self.readback, 0, bytes);
+        encoder.copy_buffer_to_buffer(&self.buffers.vecs, 0, &self.readback, 0, bytes);
         self.queue.submit([encoder.finish()]);
         let slice = self.readback.slice(..);
         let (sent, mapped) = std::sync::mpsc::channel();
@@ -332,18 +382,23 @@ fn source(precision: Precision, net: &Network) -> String {
         Some(crate::DampingLaw::Axial) => 1,
         _ => 0,
     };
-    let header = format!(
-        "alias real = {};\nconst NODES: u32 = {}u;\nconst SPRINGS: u32 = {}u;\nconst DAMPERS: u32 = {}u;\nconst DAMPING_LAW: u32 = {}u;\n",
-        precision.wgsl(),
-        net.nodes(),
-        net.springs.len(),
-        net.acting_dampers().len(),
-        law,
-    );
+    let constants = [
+        ("NODES", net.nodes()),
+        ("SPRINGS", net.springs.len()),
+        ("MEMBRANE", net.membrane.len()),
+        ("DAMPERS", net.acting_dampers().len()),
+        ("TRIANGLES", net.triangles.len()),
+        ("DAMPING_LAW", law),
+        ("POROUS", net.porous.is_some() as usize),
+    ];
+    let mut header = format!("alias real = {};\n", precision.wgsl());
+    for (name, value) in constants {
+        header += &format!("const {name}: u32 = {value}u;\n");
+    }
     header + include_str!("solver.wgsl")
 }
 
-/// Bindings 0–1 read and written, 2–6 read, 7 the pass's op.
+/// Bindings 0–1 read and written, 2–6 and 8 read, 7 the pass's op.
 fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
         binding,
@@ -366,6 +421,7 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         },
         count: None,
     });
+    entries.push(storage(8, true));
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("structure"),
         entries: &entries,

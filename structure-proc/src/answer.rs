@@ -11,9 +11,9 @@ use crate::stability::{
     ATTACHED_INTERVAL,
 };
 use crate::{build_model, Model};
-use scenario::{Answer, ScenarioError};
+use scenario::{section, Answer, ScenarioError};
 use std::path::Path;
-use structure_section::{Scene, StructureSection};
+use structure_section::{Device, Scene, StructureSection};
 
 /// The answer for the scenario text from `path`; a problem in it is the
 /// error. `make` gives the program's stepper for the model.
@@ -25,13 +25,29 @@ pub fn answer<S: Stepper>(
 ) -> Result<Answer, ScenarioError> {
     let scene = Scene::load(path, text, program)?;
     let section = &scene.structure;
+    let dt = scene.scenario.coupling.structure_dt();
+    let built = build_model(section, scene.rigid.as_ref(), dt).map(|m| {
+        let stepper = make(section, &m);
+        (m, stepper)
+    });
+    // A GPU that cannot run the scene is a problem of the key that asks
+    // for it: no adapter, or a part of the network the device does not take.
+    if let (Device::Gpu, Ok((_, Err(e)))) = (section.device, &built) {
+        let why = format!("device = \"gpu\": {e}");
+        section::checked(path, text, |c| {
+            c.within("structure", None, |c| c.problem(&["device"], why))
+        })?;
+    }
     // Every structure stepper saves and restores window checkpoints, and
     // the driver writes them to disk as run checkpoints.
     let mut answer = Answer::with_restarts();
     answer
         .manifest
         .insert("integrator".into(), section.integrator.name().into());
-    let ((omega, damping), attached, layer) = match scheme_omega_max(&scene, path, text, make) {
+    let estimated = built
+        .map_err(Error::from)
+        .and_then(|(m, stepper)| scheme_omega_max(&scene, path, text, &m, stepper?));
+    let ((omega, damping), attached, layer) = match estimated {
         Ok(w) => w,
         Err(e) => {
             answer.notes.push(format!("stability not estimated: {e}"));
@@ -68,16 +84,15 @@ fn scheme_omega_max<S: Stepper>(
     scene: &Scene,
     path: &Path,
     text: &str,
-    make: impl FnOnce(&StructureSection, &Model) -> Result<S, Error>,
+    m: &Model,
+    stepper: S,
 ) -> Result<((f64, DampingRate), f64, Option<String>), Error> {
     let section = &scene.structure;
     let dt = scene.scenario.coupling.structure_dt();
-    let m = build_model(section, scene.rigid.as_ref(), dt)?;
-    let layer = layer_warning(section, &m);
+    let layer = layer_warning(section, m);
     let weights = attachment_weights(scene, path, text)?;
     let nodes: Vec<usize> = m.attachments.iter().map(|a| a.node).collect();
     let attached = attached_omega(&nodes, &weights, &m.couplings);
-    let stepper = make(section, &m)?;
     if !stepper.is_scenario_integrator() {
         return Err(format!(
             "{} does not use `integrator = \"{}\"`, so eq. (3.7) and its interval do not apply",

@@ -31,6 +31,23 @@ pub trait Stepper {
     /// attachment impulses and `m.time` (see [`Model::finish_step`]).
     fn step(&mut self, m: &mut Model, loads: &Loads, dt: f64) -> Result<(), StepError>;
 
+    /// `n` steps of `dt` with nothing between them (no collision pass, no
+    /// line that can break, no payload to release): a method that keeps
+    /// its state elsewhere (the GPU) takes them in one go. On failure, the
+    /// step that failed (0 for the first) and why.
+    fn steps(
+        &mut self,
+        m: &mut Model,
+        loads: &Loads,
+        dt: f64,
+        n: u32,
+    ) -> Result<(), (u32, StepError)> {
+        for k in 0..n {
+            self.step(m, loads, dt).map_err(|e| (k, e))?;
+        }
+        Ok(())
+    }
+
     /// Append to `into` what the method's next step reads beyond the model
     /// (an integrator's carried acceleration, an adaptive step size), so
     /// that a window can be repeated from its checkpoint bit for bit
@@ -45,6 +62,39 @@ pub trait Stepper {
     /// (xpbd-proc's constraint solver) report no ω_max.
     fn is_scenario_integrator(&self) -> bool {
         false
+    }
+}
+
+/// A stepper chosen at run time (the CPU's or the GPU's).
+impl<T: Stepper + ?Sized> Stepper for Box<T> {
+    fn name(&self) -> &str {
+        (**self).name()
+    }
+
+    fn step(&mut self, m: &mut Model, loads: &Loads, dt: f64) -> Result<(), StepError> {
+        (**self).step(m, loads, dt)
+    }
+
+    fn steps(
+        &mut self,
+        m: &mut Model,
+        loads: &Loads,
+        dt: f64,
+        n: u32,
+    ) -> Result<(), (u32, StepError)> {
+        (**self).steps(m, loads, dt, n)
+    }
+
+    fn save_history(&self, into: &mut Vec<f64>) {
+        (**self).save_history(into)
+    }
+
+    fn restore_history(&mut self, from: &[f64]) {
+        (**self).restore_history(from)
+    }
+
+    fn is_scenario_integrator(&self) -> bool {
+        (**self).is_scenario_integrator()
     }
 }
 
@@ -490,6 +540,23 @@ impl<S: Stepper> Driven<S> {
         let h = step.dt / step.substeps as f64;
         let mut time = step.time;
         self.substeps += step.substeps as u64;
+        let between = self.obstacles.is_some()
+            || self.contacts.is_some()
+            || !m.lines.is_empty()
+            || m.hold.is_some();
+        if !between {
+            return match self.stepper.steps(m, &loads, h, step.substeps) {
+                Ok(()) => self
+                    .watch
+                    .check(m)
+                    .map(|why| format!("diverged at t = {:.6e} s: {why}", step.time + step.dt)),
+                Err((k, e)) => Some(format!(
+                    "{} failed at t = {:.6e} s: {e}",
+                    self.stepper.name(),
+                    step.time + k as f64 * h
+                )),
+            };
+        }
         for k in 0..step.substeps {
             if let Some(o) = &mut self.obstacles {
                 o.begin_step(&m.x);

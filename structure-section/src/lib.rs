@@ -28,6 +28,9 @@ pub use sheets::{Cords, Disk};
 pub struct StructureSection {
     #[serde(default)]
     pub integrator: Integrator,
+    /// Where the steps run: the CPU, or a GPU through wgpu (`structure-gpu`).
+    #[serde(default)]
+    pub device: Device,
     /// β, γ for `integrator = "newmark"`.
     #[serde(default)]
     pub newmark: NewmarkParams,
@@ -81,6 +84,25 @@ pub struct StructureSection {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub collision: Option<Collision>,
 }
+
+/// Where the structure's steps run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Device {
+    #[default]
+    Cpu,
+    /// The explicit schemes the device runs (euler-cromer, velocity-verlet,
+    /// rk4) on the first GPU adapter wgpu finds, the state kept there
+    /// between sub-steps.
+    Gpu,
+}
+
+/// The integrators `device = "gpu"` runs.
+pub const GPU_INTEGRATORS: [Integrator; 3] = [
+    Integrator::EulerCromer,
+    Integrator::VelocityVerlet,
+    Integrator::Rk4,
+];
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -306,6 +328,32 @@ impl StructureSection {
         )
     }
 
+    /// What `device = "gpu"` does not run (the adapter itself is the
+    /// structure program's to find, in its `--check` answer).
+    fn check_device(&self, c: &mut Checker) {
+        if self.device != Device::Gpu {
+            return;
+        }
+        if !GPU_INTEGRATORS.contains(&self.integrator) {
+            let names: Vec<_> = GPU_INTEGRATORS.iter().map(|i| i.name()).collect();
+            c.problem(
+                &["device"],
+                format!(
+                    "device = \"gpu\" runs integrator = {}, not \"{}\"",
+                    names.join(", "),
+                    self.integrator.name()
+                ),
+            );
+        }
+        if self.collision.is_some() {
+            c.problem(
+                &["device"],
+                "device = \"gpu\" does not run [structure.collision] yet: use device = \"cpu\""
+                    .into(),
+            );
+        }
+    }
+
     pub fn check(&self, c: &mut Checker, rigid: Option<&RigidSection>) {
         c.within("structure", None, |c| {
             c.finite3(&["gravity"], self.gravity);
@@ -341,6 +389,7 @@ impl StructureSection {
             if let Some(k) = &self.collision {
                 k.check(c, rigid);
             }
+            self.check_device(c);
             integrator::check_params(c, &self.newmark, &self.hht, &self.newton, &self.adaptive);
             match (self.damping, self.damping_coefficient) {
                 (Damping::Viscous, None) => c.problem(&["damping_coefficient"],

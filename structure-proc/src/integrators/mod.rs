@@ -35,6 +35,8 @@ pub enum StepError {
     NonFinite,
     #[error("the adaptive step fell to {step:.3e} s, {time:.3e} s into the step: the error tolerance cannot be met")]
     StepTooSmall { step: f64, time: f64 },
+    #[error("the GPU failed: {0}")]
+    Device(String),
 }
 
 pub trait Integrator: Send {

@@ -34,6 +34,7 @@ pub fn canopy(e: Elasticity, gravity: [f64; 3], damping: Option<Law>) -> Model {
     };
     let section = StructureSection {
         integrator: Integrator::VelocityVerlet,
+        device: Default::default(),
         newmark: Default::default(),
         hht: Default::default(),
         newton: Default::default(),
