@@ -35,13 +35,16 @@ pub(crate) enum Pass {
     Slots { x: u32, v: u32 },
     /// out ← m·g + the slots, node by node.
     Gather { out: u32 },
-    /// out ← a + c·b, divided by the node's mass where `scaled`.
+    /// out ← a + c·b, divided by the node's mass where `scaled`; where
+    /// 1/m = 0 a kick that `reacts` adds c·b to the reaction instead (the
+    /// impulse on held and attached nodes).
     Combine {
         out: u32,
         a: u32,
         b: u32,
         c: Coef,
         scaled: bool,
+        reacts: bool,
     },
 }
 
@@ -64,14 +67,28 @@ const fn h(times: f64) -> Coef {
     Coef { times, over: 1.0 }
 }
 
-/// out ← v + c·f/m.
-fn kick(out: u32, v: u32, f: u32, c: Coef) -> Pass {
+/// v ← v + c·f/m, the impulse c·f on nodes with 1/m = 0 to the reaction
+/// (the CPU's `kick`).
+fn kick(v: u32, f: u32, c: Coef) -> Pass {
+    Pass::Combine {
+        out: v,
+        a: v,
+        b: f,
+        c,
+        scaled: true,
+        reacts: true,
+    }
+}
+
+/// out ← v + c·f/m, a trial velocity (the CPU's `kicked`).
+fn kicked(out: u32, v: u32, f: u32, c: Coef) -> Pass {
     Pass::Combine {
         out,
         a: v,
         b: f,
         c,
         scaled: true,
+        reacts: false,
     }
 }
 
@@ -83,6 +100,7 @@ fn drift(out: u32, x: u32, v: u32, c: Coef) -> Pass {
         b: v,
         c,
         scaled: false,
+        reacts: false,
     }
 }
 
@@ -92,7 +110,8 @@ fn force(x: u32, v: u32, out: u32) -> [Pass; 2] {
 }
 
 impl Scheme {
-    /// How many vectors a step uses: one past the highest it names.
+    /// How many vectors a step uses: one past the highest it names. The
+    /// reaction follows them.
     pub(crate) fn vectors(self) -> u32 {
         let named = |p: &Pass| match *p {
             Pass::Slots { x, v } => x.max(v),
@@ -108,28 +127,28 @@ impl Scheme {
         match self {
             Scheme::EulerCromer => {
                 p.extend(force(X, V, F1));
-                p.push(kick(V, V, F1, h(1.0))); // (15)
+                p.push(kick(V, F1, h(1.0))); // (15)
                 p.push(drift(X, X, V, h(1.0))); // (16)
             }
             Scheme::VelocityVerlet => {
                 // F1 = f0, F2 = f1, V2 = the predictor for (39).
                 p.extend(force(X, V, F1));
-                p.push(kick(V2, V, F1, h(1.0)));
-                p.push(kick(V, V, F1, h(0.5))); // (37)
+                p.push(kicked(V2, V, F1, h(1.0)));
+                p.push(kick(V, F1, h(0.5))); // (37)
                 p.push(drift(X, X, V, h(1.0))); // (38)
                 p.extend(force(X, V2, F2)); // (39)
-                p.push(kick(V, V, F2, h(0.5))); // (40)
+                p.push(kick(V, F2, h(0.5))); // (40)
             }
             Scheme::Rk4 => {
                 p.extend(force(X, V, F1)); // (42)–(43)
                 p.push(drift(XS, X, V, h(0.5)));
-                p.push(kick(V2, V, F1, h(0.5)));
+                p.push(kicked(V2, V, F1, h(0.5)));
                 p.extend(force(XS, V2, F2)); // (44)–(45)
                 p.push(drift(XS, X, V2, h(0.5)));
-                p.push(kick(V3, V, F2, h(0.5)));
+                p.push(kicked(V3, V, F2, h(0.5)));
                 p.extend(force(XS, V3, F3)); // (46)–(47)
                 p.push(drift(XS, X, V3, h(1.0)));
-                p.push(kick(V4, V, F3, h(1.0)));
+                p.push(kicked(V4, V, F3, h(1.0)));
                 p.extend(force(XS, V4, F4)); // (48)–(49)
                                              // (51) then (50), with the CPU's weights w·h/6.
                 for (vk, w) in [(V, 1.0), (V2, 2.0), (V3, 2.0), (V4, 1.0)] {
@@ -145,7 +164,6 @@ impl Scheme {
                 }
                 for (f, w) in [(F1, 1.0), (F2, 2.0), (F3, 2.0), (F4, 1.0)] {
                     p.push(kick(
-                        V,
                         V,
                         f,
                         Coef {

@@ -47,7 +47,9 @@ impl Buffers {
         net: &Network,
         scheme: Scheme,
     ) -> Result<Buffers, GpuError> {
-        let state_bytes = 3 * (net.nodes() * scheme.vectors() as usize * p.size()) as u64;
+        // The scheme's vectors and the reaction.
+        let vectors = scheme.vectors() as usize + 1;
+        let state_bytes = 3 * (net.nodes() * vectors * p.size()) as u64;
         check_size(device, "the state", state_bytes)?;
         check_size(
             device,
@@ -140,7 +142,10 @@ pub struct Solver {
     bind_group: wgpu::BindGroup,
     /// One op record per pass, `op_stride` bytes apart.
     op_stride: u32,
+    /// Large enough for X and V.
     readback: wgpu::Buffer,
+    /// The vector that sums the reactions: after the scheme's own.
+    reaction: u32,
     /// The step the coefficients were written for.
     h: Option<f64>,
 }
@@ -167,7 +172,7 @@ impl Solver {
             wgpu::BufferUsages::UNIFORM,
         );
         let layout = bind_group_layout(&device);
-        let pipelines = pipelines(&device, &layout, &source(precision, net))?;
+        let pipelines = pipelines(&device, &layout, &source(precision, net, scheme))?;
         let bind_group = buffers.bind_group(&device, &layout, &ops);
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
@@ -188,6 +193,7 @@ impl Solver {
             bind_group,
             op_stride,
             readback,
+            reaction: scheme.vectors(),
             h: None,
         })
     }
@@ -196,7 +202,8 @@ impl Solver {
         self.nodes
     }
 
-    /// Set the state: positions `x` [m] and velocities `v` [m/s], 3 per node.
+    /// Set the state: positions `x` [m] and velocities `v` [m/s], 3 per
+    /// node; the reaction starts again from zero.
     pub fn upload(&mut self, x: &[f64], v: &[f64]) {
         assert!(
             x.len() == 3 * self.nodes && v.len() == 3 * self.nodes,
@@ -204,8 +211,12 @@ impl Solver {
         );
         let mut both = x.to_vec();
         both.extend_from_slice(v);
+        let p = self.precision;
         self.queue
-            .write_buffer(&self.buffers.vecs, 0, &self.precision.bytes(&both));
+            .write_buffer(&self.buffers.vecs, 0, &p.bytes(&both));
+        let at = (self.reaction as usize * x.len() * p.size()) as u64;
+        self.queue
+            .write_buffer(&self.buffers.vecs, at, &p.bytes(&vec![0.0; x.len()]));
     }
 
     /// Set the fluid's pressure jump on each of the network's pressure
@@ -273,31 +284,51 @@ impl Solver {
 
     /// Wait for the queued steps and read the state back into `x`, `v`.
     pub fn download(&self, x: &mut [f64], v: &mut [f64]) -> Result<(), GpuError> {
-        let len = 3 * self.nodes;
-        assert!(x.len() == len && v.len() == len, "3 values a node");
-        let bytes = self.readback.size();
-        let mut encoder = self.device.create_command_encoder(&Default::default());
         // X and V are the state's first two vectors, one after the other.
         const { assert!(vector::X == 0 && vector::V == 1) };
-        encoder.copy_buffer_to_buffer(&self.buffers.vecs, 0, &self.readback, 0, bytes);
+        self.read(vector::X, &mut [x, v])
+    }
+
+    /// Wait for the queued steps and read into `out` the impulse [N·s] on
+    /// every node with 1/m = 0 (held, or attached to a rigid body) since
+    /// the last [`Solver::upload`], 3 per node (0 on the others): what
+    /// the structure gave whatever holds them.
+    pub fn reaction(&self, out: &mut [f64]) -> Result<(), GpuError> {
+        self.read(self.reaction, &mut [out])
+    }
+
+    /// Wait for the queued steps and read the vectors from `first` on into
+    /// `outs`, one after another.
+    fn read(&self, first: u32, outs: &mut [&mut [f64]]) -> Result<(), GpuError> {
+        let len = 3 * self.nodes;
+        assert!(outs.iter().all(|o| o.len() == len), "3 values a node");
+        let size = (self.precision.size() * len) as u64;
+        let bytes = size * outs.len() as u64;
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(
+            &self.buffers.vecs,
+            first as u64 * size,
+            &self.readback,
+            0,
+            bytes,
+        );
         self.queue.submit([encoder.finish()]);
-        let slice = self.readback.slice(..);
+        let slice = self.readback.slice(..bytes);
         let (sent, mapped) = std::sync::mpsc::channel();
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = sent.send(r);
         });
+        let lost = |e: &dyn std::fmt::Display| GpuError::Lost(e.to_string());
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Lost(e.to_string()))?;
-        mapped
-            .recv()
-            .map_err(|e| GpuError::Lost(e.to_string()))?
-            .map_err(|e| GpuError::Lost(e.to_string()))?;
+            .map_err(|e| lost(&e))?;
+        mapped.recv().map_err(|e| lost(&e))?.map_err(|e| lost(&e))?;
         {
             let data = slice.get_mapped_range();
-            let size = self.precision.size() * len;
-            self.precision.read(&data[..size], x);
-            self.precision.read(&data[size..2 * size], v);
+            for (k, out) in outs.iter_mut().enumerate() {
+                let at = k * size as usize;
+                self.precision.read(&data[at..at + size as usize], out);
+            }
         }
         self.readback.unmap();
         Ok(())
@@ -359,7 +390,7 @@ fn workgroups(threads: u32) -> (u32, u32) {
     }
 }
 
-/// One `Op` record (out, a, b, coefficient << 1 | scaled) per pass.
+/// One `Op` record (out, a, b, coefficient << 2 | reacts << 1 | scaled) per pass.
 fn op_records(passes: &[Pass], stride: u32) -> Vec<u8> {
     let mut bytes = vec![0u8; passes.len() * stride as usize];
     for (k, p) in passes.iter().enumerate() {
@@ -367,8 +398,18 @@ fn op_records(passes: &[Pass], stride: u32) -> Vec<u8> {
             Pass::Slots { x, v } => [0, x, v, 0],
             Pass::Gather { out } => [out, 0, 0, 0],
             Pass::Combine {
-                out, a, b, scaled, ..
-            } => [out, a, b, (k as u32) << 1 | scaled as u32],
+                out,
+                a,
+                b,
+                scaled,
+                reacts,
+                ..
+            } => [
+                out,
+                a,
+                b,
+                (k as u32) << 2 | (reacts as u32) << 1 | scaled as u32,
+            ],
         };
         let at = k * stride as usize;
         bytes[at..at + 16].copy_from_slice(bytemuck::cast_slice(&record));
@@ -377,7 +418,7 @@ fn op_records(passes: &[Pass], stride: u32) -> Vec<u8> {
 }
 
 /// The kernels' source with the network's sizes and the precision.
-fn source(precision: Precision, net: &Network) -> String {
+fn source(precision: Precision, net: &Network, scheme: Scheme) -> String {
     let law = match net.damping {
         Some(crate::DampingLaw::Axial) => 1,
         _ => 0,
@@ -390,6 +431,7 @@ fn source(precision: Precision, net: &Network) -> String {
         ("TRIANGLES", net.triangles.len()),
         ("DAMPING_LAW", law),
         ("POROUS", net.porous.is_some() as usize),
+        ("REACTION", scheme.vectors() as usize),
     ];
     let mut header = format!("alias real = {};\n", precision.wgsl());
     for (name, value) in constants {

@@ -11,7 +11,8 @@
 //
 // The host prepends `alias real = f64;` (or f32 where the adapter lacks
 // f64) and the constants NODES, SPRINGS, MEMBRANE (triangles), DAMPERS,
-// TRIANGLES (pushed by a pressure jump), DAMPING_LAW and POROUS. Every
+// TRIANGLES (pushed by a pressure jump), DAMPING_LAW, POROUS and REACTION
+// (the vector that sums the impulse on nodes with 1/m = 0). Every
 // vector (positions, velocities, forces, stage values) lives in `vecs`, 3
 // reals a node, vector k at offset 3·NODES·k; each dispatch names its
 // vectors in `op` (a dynamic offset into one uniform buffer per step).
@@ -22,7 +23,7 @@ struct Op {
     out: u32,
     a: u32,
     b: u32,
-    // coefficient index << 1 | scaled by 1/m
+    // coefficient index << 2 | reacts << 1 | scaled by 1/m
     coef: u32,
 }
 
@@ -213,6 +214,8 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>,
     vecs[o + 2u] = sum.z;
 }
 
+// Where 1/m = 0 (held and attached nodes) a kick leaves the velocity and
+// sums its impulse into the REACTION vector, as the CPU's `kick` does.
 @compute @workgroup_size(64)
 fn combine(@builtin(global_invocation_id) gid: vec3<u32>,
            @builtin(num_workgroups) groups: vec3<u32>) {
@@ -220,10 +223,14 @@ fn combine(@builtin(global_invocation_id) gid: vec3<u32>,
     if i >= 3u * NODES {
         return;
     }
-    let c = params[COEFS + (op.coef >> 1u)];
+    let c = params[COEFS + (op.coef >> 2u)];
     var step = c * vecs[3u * NODES * op.b + i];
     if (op.coef & 1u) != 0u {
-        step = step * nodes[2u * (i / 3u) + 1u];
+        let w = nodes[2u * (i / 3u) + 1u];
+        if (op.coef & 2u) != 0u && w == 0.0 {
+            vecs[3u * NODES * REACTION + i] += step;
+        }
+        step = step * w;
     }
     vecs[3u * NODES * op.out + i] = vecs[3u * NODES * op.a + i] + step;
 }

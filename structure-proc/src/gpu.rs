@@ -1,29 +1,20 @@
 //! The structure on a GPU (the `structure-gpu` crate, dissertation
-//! chapter 5): a network as the device reads it, and what the device path
-//! does not take yet.
+//! chapter 5): a network as the device reads it, and the scenario's scheme
+//! stepping it there.
 
 use crate::driver::{Error, Stepper};
 use crate::forces::damping::Law;
 use crate::forces::Loads;
 use crate::integrators::StepError;
-use crate::network::{Network, NodeKind};
+use crate::network::Network;
 use crate::Model;
 use structure_gpu::{Gpu, GpuError, Scheme, Solver};
 use structure_section::{Integrator, StructureSection};
 
-/// What of a network the device path does not take yet.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("the GPU path does not take {0} yet")]
-pub struct Unsupported(pub &'static str);
-
-/// `net` as the device reads it, or the first part it does not take. With
-/// `fluid`, the canopy triangles take the jump a fluid sends
-/// ([`structure_gpu::Solver::set_pressure`]), as [`crate::forces::Loads`]
-/// gives it on the CPU.
-pub fn network(net: &Network, fluid: bool) -> Result<structure_gpu::Network, Unsupported> {
-    if net.kind.iter().any(|k| matches!(k, NodeKind::Attached(_))) {
-        return Err(Unsupported("nodes attached to rigid bodies"));
-    }
+/// `net` as the device reads it. With `fluid`, the canopy triangles take
+/// the jump a fluid sends ([`structure_gpu::Solver::set_pressure`]), as
+/// [`crate::forces::Loads`] gives it on the CPU.
+pub fn network(net: &Network, fluid: bool) -> structure_gpu::Network {
     let springs = net.springs.iter().map(|s| structure_gpu::Spring {
         i: s.i,
         j: s.j,
@@ -43,7 +34,7 @@ pub fn network(net: &Network, fluid: bool) -> Result<structure_gpu::Network, Uns
         c: d.c,
         slack_below: d.slack_below,
     });
-    Ok(structure_gpu::Network {
+    structure_gpu::Network {
         mass: net.mass.clone(),
         inv_mass: net.inv_mass.clone(),
         gravity: net.gravity,
@@ -68,16 +59,21 @@ pub fn network(net: &Network, fluid: bool) -> Result<structure_gpu::Network, Uns
             porosity: p.porosity,
             thickness: p.thickness,
         }),
-    })
+    }
 }
 
 /// The scenario's explicit scheme run on a GPU (`[structure] device =
 /// "gpu"`): the state goes to the device at the start of each call and
 /// comes back at its end, so a window's sub-steps with nothing between
-/// them ([`Stepper::steps`]) stay on the device.
+/// them ([`Stepper::steps`]) stay on the device. Attached nodes move with
+/// their body there and come back at their exact place (x0 + v0·τ); the
+/// impulse they took goes to their attachment, as [`Model::finish_step`]
+/// does on the CPU.
 pub struct OnDevice {
     name: &'static str,
     solver: Solver,
+    /// The reaction read back, 3 per node.
+    reaction: Vec<f64>,
 }
 
 impl OnDevice {
@@ -93,17 +89,15 @@ impl OnDevice {
                 )
             }
         };
-        if !m.attachments.is_empty() {
-            return Err(Unsupported("nodes attached to rigid bodies").into());
-        }
         // The canopy's triangles take a fluid's jump whenever one comes
         // (a zero jump adds nothing).
-        let net = network(&m.net, true)?;
+        let net = network(&m.net, true);
         let gpu = Gpu::new()?;
         let solver = Solver::new(&gpu, &net, scheme)?;
         Ok(OnDevice {
             name: section.integrator.name(),
             solver,
+            reaction: vec![0.0; m.x.len()],
         })
     }
 }
@@ -130,7 +124,19 @@ impl Stepper for OnDevice {
             self.solver.set_pressure(loads.pressure);
         }
         self.solver.advance(dt, n as u64).map_err(lost)?;
-        self.solver.download(&mut m.x, &mut m.v).map_err(lost)
+        self.solver.download(&mut m.x, &mut m.v).map_err(lost)?;
+        if !m.attachments.is_empty() {
+            self.solver.reaction(&mut self.reaction).map_err(lost)?;
+            // τ summed step by step as the CPU sums it; the last step's
+            // dt and the impulse come with finish_step.
+            for a in &mut m.attachments {
+                for _ in 1..n {
+                    a.tau += dt;
+                }
+            }
+            m.finish_step(&self.reaction, dt);
+        }
+        Ok(())
     }
 
     /// One-step schemes: nothing beyond the state.

@@ -5,7 +5,9 @@
 //! failure there, elsewhere the tests say so and pass.
 
 use structure_gpu::{Gpu, Precision, Scheme, Solver};
+use structure_proc::driver::{self, Stepper};
 use structure_proc::forces::Loads;
+use structure_proc::gpu::OnDevice;
 use structure_proc::{build_model, gpu, integrator, Model};
 use structure_section::{Damping, Integrator as CpuScheme, Scene, StructureSection};
 
@@ -40,10 +42,29 @@ fn cpu(scheme: Scheme) -> Box<dyn structure_proc::Integrator> {
     integrator(s.scheme())
 }
 
+/// How far the device's run is from the CPU's.
+struct Difference {
+    /// The largest difference of a position [m].
+    position: f64,
+    /// The largest displacement on the CPU [m].
+    moved: f64,
+    /// The largest difference of the impulse on a held node [N·s].
+    reaction: f64,
+    /// The largest impulse on a held node on the CPU [N·s].
+    held: f64,
+}
+
+/// The largest |a − b| of two equally long arrays.
+fn worst(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).abs())
+        .fold(0.0, f64::max)
+}
+
 /// `steps` steps of `h` from the model's state on the CPU and on `gpu`,
 /// under the fluid's pressure jump `pressure` (one per canopy triangle, or
-/// none): the largest difference of a position [m] and the largest
-/// displacement on the CPU [m].
+/// none).
 fn difference(
     m: &Model,
     gpu: &Gpu,
@@ -51,67 +72,113 @@ fn difference(
     h: f64,
     steps: u64,
     pressure: &[f64],
-) -> (f64, f64) {
+) -> Difference {
     let mut on_cpu = m.clone();
     let mut stepper = cpu(scheme);
+    let mut reaction = vec![0.0; m.x.len()];
     for _ in 0..steps {
         on_cpu
             .step(stepper.as_mut(), &Loads { pressure }, h)
             .unwrap();
+        reaction
+            .iter_mut()
+            .zip(stepper.reaction())
+            .for_each(|(r, s)| *r += s);
     }
-    let net = gpu::network(&m.net, !pressure.is_empty()).expect("a network the device takes");
+    let net = gpu::network(&m.net, !pressure.is_empty());
     let mut solver = Solver::new(gpu, &net, scheme).expect("the device takes it");
     solver.upload(&m.x, &m.v);
     if !pressure.is_empty() {
         solver.set_pressure(pressure);
     }
     solver.advance(h, steps).expect("steps");
-    let (mut x, mut v) = (vec![0.0; m.x.len()], vec![0.0; m.v.len()]);
+    let (mut x, mut v, mut r) = (
+        vec![0.0; m.x.len()],
+        vec![0.0; m.v.len()],
+        vec![0.0; m.x.len()],
+    );
     solver.download(&mut x, &mut v).expect("read back");
-    let worst = |a: &[f64], b: &[f64]| {
-        a.iter()
-            .zip(b)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0, f64::max)
-    };
-    (worst(&x, &on_cpu.x), worst(&m.x, &on_cpu.x))
-}
-
-/// Every scheme from `m`'s state on the CPU and the device: the device
-/// within `tolerance` [m] of the CPU, and the structure moved by more than
-/// `moves` [m].
-fn compare(m: &Model, gpu: &Gpu, h: f64, steps: u64, pressure: &[f64], tolerance: f64, moves: f64) {
-    for scheme in SCHEMES {
-        let (diff, moved) = difference(m, gpu, scheme, h, steps, pressure);
-        eprintln!(
-            "{scheme:?} in {:?} on {}: {diff:.3e} m of {moved:.3e} m",
-            gpu.precision(),
-            gpu.name()
-        );
-        assert!(moved > moves, "{scheme:?}: the structure moves {moved} m");
-        assert!(
-            diff < tolerance,
-            "{scheme:?}: the device is {diff:e} m from the CPU"
-        );
+    solver.reaction(&mut r).expect("read back");
+    Difference {
+        position: worst(&x, &on_cpu.x),
+        moved: worst(&m.x, &on_cpu.x),
+        reaction: worst(&r, &reaction),
+        held: reaction.iter().fold(0.0, |a, b| a.max(b.abs())),
     }
 }
 
+const SCHEMES: [Scheme; 3] = [Scheme::EulerCromer, Scheme::VelocityVerlet, Scheme::Rk4];
+
+/// How close the device must come to the CPU.
+struct Tolerance {
+    /// On a position [m].
+    position: f64,
+    /// On the impulse on a held node, relative to the largest.
+    reaction: f64,
+}
+
 /// f64 on both: only the order of a few roundings differs (fused
-/// multiply–adds, the square root), 10⁻¹⁶ a step, grown by the motion.
-const F64_TOLERANCE: f64 = 1e-12;
+/// multiply–adds, the square root, the sum of a step's kicks), 10⁻¹⁶ a
+/// step, grown by the motion.
+const F64: Tolerance = Tolerance {
+    position: 1e-12,
+    reaction: 1e-12,
+};
 
 /// f32 where an adapter lacks f64: the README's stated error on a 1 m
 /// structure after 200 steps.
-const F32_TOLERANCE: f64 = 1e-5;
+const F32: Tolerance = Tolerance {
+    position: 1e-5,
+    reaction: 1e-4,
+};
 
-const SCHEMES: [Scheme; 3] = [Scheme::EulerCromer, Scheme::VelocityVerlet, Scheme::Rk4];
+/// Every scheme from `m`'s state on the CPU and the device: positions and
+/// the impulses on held nodes within `tolerance`, the structure moved by
+/// more than `moves` [m] and pulling on its held nodes.
+fn compare(
+    m: &Model,
+    gpu: &Gpu,
+    h: f64,
+    steps: u64,
+    pressure: &[f64],
+    tolerance: Tolerance,
+    moves: f64,
+) {
+    for scheme in SCHEMES {
+        let d = difference(m, gpu, scheme, h, steps, pressure);
+        eprintln!(
+            "{scheme:?} in {:?} on {}: {:.3e} m of {:.3e} m, held {:.3e} of {:.3e} N·s",
+            gpu.precision(),
+            gpu.name(),
+            d.position,
+            d.moved,
+            d.reaction,
+            d.held
+        );
+        assert!(
+            d.moved > moves && d.held > 0.0,
+            "{scheme:?}: the structure moves {} m",
+            d.moved
+        );
+        assert!(
+            d.position < tolerance.position,
+            "{scheme:?}: the device is {:e} m from the CPU",
+            d.position
+        );
+        assert!(
+            d.reaction <= tolerance.reaction * d.held,
+            "{scheme:?}: the held nodes' impulse is {:e} N·s off",
+            d.reaction
+        );
+    }
+}
 
 /// Thesis §2.5.2's spring pendulum, 2 s (several periods) at its scene's step.
 #[test]
 fn the_device_swings_the_spring_pendulum_as_the_cpu_does() {
     let Some(gpu) = device(None) else { return };
     let m = build_model(&section("spring-pendulum"), None, 1e-3).unwrap();
-    compare(&m, &gpu, 1e-3, 2000, &[], F64_TOLERANCE, 0.1);
+    compare(&m, &gpu, 1e-3, 2000, &[], F64, 0.1);
 }
 
 /// The hanging cloth with springs for its membrane, bending springs and
@@ -133,7 +200,7 @@ fn damped_cloth() -> Model {
 #[test]
 fn the_device_drops_the_damped_cloth_as_the_cpu_does() {
     let Some(gpu) = device(None) else { return };
-    compare(&damped_cloth(), &gpu, 1e-4, 200, &[], F64_TOLERANCE, 1e-3);
+    compare(&damped_cloth(), &gpu, 1e-4, 200, &[], F64, 1e-3);
 }
 
 #[test]
@@ -141,7 +208,7 @@ fn in_f32_the_device_drops_the_cloth_within_the_stated_error() {
     let Some(gpu) = device(Some(Precision::F32)) else {
         return;
     };
-    compare(&damped_cloth(), &gpu, 1e-4, 200, &[], F32_TOLERANCE, 1e-3);
+    compare(&damped_cloth(), &gpu, 1e-4, 200, &[], F32, 1e-3);
 }
 
 /// `cloth-hanging` as shipped: Delingette's membrane (dissertation eqs.
@@ -156,7 +223,7 @@ fn membrane_cloth() -> Model {
 #[test]
 fn the_device_hangs_the_membrane_cloth_as_the_cpu_does() {
     let Some(gpu) = device(None) else { return };
-    compare(&membrane_cloth(), &gpu, 2e-5, 300, &[], F64_TOLERANCE, 1e-5);
+    compare(&membrane_cloth(), &gpu, 2e-5, 300, &[], F64, 1e-5);
 }
 
 /// A fluid's pressure jump, different on every triangle (2 to 8 Pa), on the
@@ -168,7 +235,7 @@ fn the_device_takes_the_fluids_pressure_as_the_cpu_does() {
     let jump: Vec<f64> = (0..m.triangles.len())
         .map(|k| 5.0 + 3.0 * (k as f64).sin())
         .collect();
-    compare(&m, &gpu, 2e-5, 300, &jump, F64_TOLERANCE, 1e-5);
+    compare(&m, &gpu, 2e-5, 300, &jump, F64, 1e-5);
 }
 
 /// `canopy-porous`'s annulus with the porous law in the structure
@@ -181,5 +248,79 @@ fn the_device_blows_the_porous_canopy_as_the_cpu_does() {
     s.porous = section("canopy-stiff").porous;
     assert!(s.porous.is_some() && s.damping == Damping::RelativeVelocity);
     let m = build_model(&s, None, 1e-3).unwrap();
-    compare(&m, &gpu, 1e-3, 200, &[], F64_TOLERANCE, 1e-2);
+    compare(&m, &gpu, 1e-3, 200, &[], F64, 1e-2);
+}
+
+/// Every parachute preset as its scene builds it (canopy, lines, the
+/// payload: a mass point, or in `c9-drop-body` a rigid body the lines
+/// attach to), 50 structure steps of the scene's own from rest under
+/// gravity, by the scene's stepper on the CPU and on the GPU (`[structure]
+/// device`): positions, the attachments' impulse and clocks agree. (The
+/// lines hang slack over these 50 steps; the impulse on held nodes is
+/// pinned by `compare` on the other networks.)
+#[test]
+fn the_device_steps_every_parachute_preset_as_the_cpu_does() {
+    let Some(_) = device(None) else { return };
+    let scenes = [
+        "c9-drop",
+        "c9-drop-body",
+        "g11-descent",
+        "intruder-descent",
+        "t10-descent",
+        "t11-descent",
+    ];
+    for name in scenes {
+        let path = format!("{}/../scenarios/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let scene = Scene::load_file(std::path::Path::new(&path), "structure-proc").unwrap();
+        let mut s = scene.structure.clone();
+        s.integrator = CpuScheme::VelocityVerlet;
+        let dt = scene.scenario.coupling.structure_dt();
+        let m = build_model(&s, scene.rigid.as_ref(), dt).unwrap();
+        assert!(
+            m.parachute.is_some() && !m.membrane.is_empty(),
+            "{name}: a parachute"
+        );
+        assert_eq!(
+            m.attachments.is_empty(),
+            scene.rigid.is_none(),
+            "{name}: attached to its body"
+        );
+        let mut on_cpu = m.clone();
+        let mut cpu = driver::Scheme::of(&s);
+        for _ in 0..50 {
+            cpu.step(&mut on_cpu, &Loads::default(), dt).unwrap();
+        }
+        let mut on_gpu = m.clone();
+        let mut gpu = OnDevice::new(&s, &m).expect("the device takes the preset");
+        gpu.steps(&mut on_gpu, &Loads::default(), dt, 50).unwrap();
+        let (diff, moved) = (worst(&on_gpu.x, &on_cpu.x), worst(&m.x, &on_cpu.x));
+        let impulse = |m: &Model| {
+            m.attachments
+                .iter()
+                .flat_map(|a| a.impulse)
+                .collect::<Vec<f64>>()
+        };
+        let (i_gpu, i_cpu) = (impulse(&on_gpu), impulse(&on_cpu));
+        let largest = i_cpu.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        eprintln!(
+            "{name}: {} nodes, {diff:.3e} m of {moved:.3e} m, impulse {:.3e} of {largest:.3e} N·s",
+            m.nodes(),
+            worst(&i_gpu, &i_cpu)
+        );
+        assert!(moved > 1e-6, "{name}: the canopy moves {moved} m");
+        assert!(
+            diff < F64.position,
+            "{name}: the device is {diff:e} m from the CPU"
+        );
+        assert!(
+            worst(&i_gpu, &i_cpu) <= F64.reaction * largest,
+            "{name}: impulses {i_gpu:?} vs {i_cpu:?}"
+        );
+        let place = |m: &Model| m.attachments.iter().map(|a| a.tau).collect::<Vec<f64>>();
+        assert_eq!(
+            place(&on_gpu),
+            place(&on_cpu),
+            "{name}: the attachments' clocks"
+        );
+    }
 }
