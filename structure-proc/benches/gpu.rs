@@ -20,8 +20,8 @@ mod common;
 use common::spring_cloth;
 use std::time::Instant;
 use structure_gpu::{Gpu, Scheme, Solver};
-use structure_proc::forces::Loads;
 use structure_proc::driver::{Scheme as CpuStepper, Stepper};
+use structure_proc::forces::Loads;
 use structure_proc::gpu::OnDevice;
 use structure_proc::{build_model, gpu, integrator, Model};
 use structure_section::{Integrator, Scene};
@@ -84,7 +84,12 @@ const TABLE_JUMP: f64 = 17.0;
 
 /// The resolution of the scene's parachute.
 fn resolution(scene: &mut Scene) -> &mut u32 {
-    &mut scene.structure.parachute.as_mut().expect("a parachute").resolution
+    &mut scene
+        .structure
+        .parachute
+        .as_mut()
+        .expect("a parachute")
+        .resolution
 }
 
 /// The preset of scene `name` refined to within 10 % of
@@ -92,10 +97,13 @@ fn resolution(scene: &mut Scene) -> &mut u32 {
 /// the secant method on log(vertices) against log(resolution).
 fn preset(name: &str) -> (Model, Scene) {
     let path = format!("{}/../scenarios/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    let mut scene = Scene::load_file(std::path::Path::new(&path), "structure-proc").expect("shipped scene");
+    let mut scene =
+        Scene::load_file(std::path::Path::new(&path), "structure-proc").expect("shipped scene");
     let dt = scene.scenario.coupling.structure_dt();
     scene.structure.integrator = Integrator::Rk4;
-    let build = |scene: &Scene| build_model(&scene.structure, scene.rigid.as_ref(), dt).expect("preset builds");
+    let build = |scene: &Scene| {
+        build_model(&scene.structure, scene.rigid.as_ref(), dt).expect("preset builds")
+    };
     let mut m = build(&scene);
     // Vertices grow as the resolution to this power (squared to start).
     let mut power = 2.0;
@@ -104,7 +112,9 @@ fn preset(name: &str) -> (Model, Scene) {
         if (n / TABLE_CANOPY_NODES - 1.0).abs() < 0.1 {
             break;
         }
-        let next = (r * (TABLE_CANOPY_NODES / n).powf(1.0 / power)).round().max(2.0);
+        let next = (r * (TABLE_CANOPY_NODES / n).powf(1.0 / power))
+            .round()
+            .max(2.0);
         *resolution(&mut scene) = next as u32;
         m = build(&scene);
         if next != r {
@@ -116,8 +126,18 @@ fn preset(name: &str) -> (Model, Scene) {
 
 /// One sub-step of `stepper` on `m` under `jump`, timed over windows of
 /// `TABLE_WINDOW` [s], on `threads` threads.
-fn preset_step(m: &Model, stepper: &mut (dyn Stepper + Send), dt: f64, jump: &[f64], threads: usize, reps: usize) -> f64 {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+fn preset_step(
+    m: &Model,
+    stepper: &mut (dyn Stepper + Send),
+    dt: f64,
+    jump: &[f64],
+    threads: usize,
+    reps: usize,
+) -> f64 {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
     let mut m = m.clone();
     let loads = Loads { pressure: jump };
     pool.install(|| {
@@ -132,7 +152,14 @@ fn table_5_2(gpu: bool) {
     println!("\ndissertation table 5.2: one RK4 step of each parachute, windows of {TABLE_WINDOW} sub-steps (medians)");
     println!(
         "{:>9} {:>7} {:>7} {:>9} {:>11} {:>12} {:>11} {:>10}",
-        "parachute", "canopy", "nodes", "elements", "1 thread ms", "2 threads ms", "adapter ms", "1t/adapter"
+        "parachute",
+        "canopy",
+        "nodes",
+        "elements",
+        "1 thread ms",
+        "2 threads ms",
+        "adapter ms",
+        "1t/adapter"
     );
     for (label, name) in [
         ("C-9", "c9-drop"),
