@@ -5,6 +5,8 @@
 //! reference systems of the tests alike. Data are flat: `x`, `v`, `f` hold
 //! three values per node.
 
+pub use crate::forces::jacobian::Block;
+
 pub trait System: Sync {
     fn nodes(&self) -> usize;
 
@@ -20,6 +22,15 @@ pub trait System: Sync {
     /// positive semi-definite; it may approximate the true Jacobian (compressed
     /// springs lose their geometric stiffness), Newton then converges more slowly.
     fn jacobian_product(&self, x: &[f64], v: &[f64], a: f64, b: f64, p: &[f64], out: &mut [f64]);
+
+    /// The matrix of [`System::jacobian_product`] as 3×3 blocks between
+    /// nodes into `out`, for solvers that factorize it; `false` (the
+    /// default) where the system gives none, and the implicit schemes
+    /// solve by conjugate gradients.
+    fn jacobian_blocks(&self, x: &[f64], v: &[f64], a: f64, b: f64, out: &mut Vec<Block>) -> bool {
+        let _ = (x, v, a, b, out);
+        false
+    }
 
     /// Node pairs coupled by a stiffness k_ij [N/m], for Kang's eq. (55).
     fn couplings(&self) -> &[(usize, usize, f64)];

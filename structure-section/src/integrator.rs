@@ -164,6 +164,22 @@ pub struct NewtonParams {
     pub cg_tolerance: f64,
     #[serde(default = "default_cg_iterations")]
     pub max_cg_iterations: u32,
+    /// How each Newton step's linear system is solved.
+    #[serde(default)]
+    pub linear_solver: LinearSolver,
+}
+
+/// `[structure.newton] linear_solver`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LinearSolver {
+    /// Conjugate gradients, matrix-free, preconditioned by the diagonal.
+    Cg,
+    /// A sparse Cholesky factorization of the assembled matrix (faer),
+    /// kept as the preconditioner of conjugate gradients while they
+    /// converge in a few iterations (`structure-proc/src/integrators/cholesky.rs`).
+    #[default]
+    Cholesky,
 }
 
 impl Default for NewtonParams {
@@ -173,6 +189,7 @@ impl Default for NewtonParams {
             max_iterations: default_iterations(),
             cg_tolerance: default_cg_tolerance(),
             max_cg_iterations: default_cg_iterations(),
+            linear_solver: LinearSolver::default(),
         }
     }
 }

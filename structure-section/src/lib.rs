@@ -2,7 +2,9 @@
 
 pub use collision::Collision;
 pub use fluid_section::PorousLoad;
-pub use integrator::{AdaptiveParams, HhtParams, Integrator, NewmarkParams, NewtonParams, Scheme};
+pub use integrator::{
+    AdaptiveParams, HhtParams, Integrator, LinearSolver, NewmarkParams, NewtonParams, Scheme,
+};
 pub use parachute::{
     Cloth, ClothHold, ClothPlane, LineBreak, LineChange, Parachute, ParachuteModel,
 };

@@ -7,7 +7,7 @@
 //! Neither has an energy; both dissipate.
 
 use super::spring::point;
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Law {
@@ -46,6 +46,18 @@ impl Damper {
         match law {
             Law::RelativeVelocity => dv * self.c,
             Law::Axial => e * (self.c * e.dot(&dv)),
+        }
+    }
+
+    /// The block S of s·C, C coupling the ends as [S −S; −S S]
+    /// ([`Damper::damping_product`] is −S·(p_j − p_i) at i).
+    pub fn damping_block(&self, law: Law, x: &[f64], s: f64) -> Matrix3<f64> {
+        let Some(e) = self.geometry(x) else {
+            return Matrix3::zeros();
+        };
+        match law {
+            Law::RelativeVelocity => Matrix3::identity() * (self.c * s),
+            Law::Axial => e * e.transpose() * (self.c * s),
         }
     }
 

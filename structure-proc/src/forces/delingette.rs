@@ -110,6 +110,25 @@ impl TriangleSprings {
             .map(|k| -(e[k] * material[k] + length_hessian(&e[k], l[k]) * q[k] * t[k].max(0.0)) * s)
     }
 
+    /// The blocks G_ef = s·(Q_ef e_e e_fᵀ + δ_ef T_e⁺ ∇²l_e) of s·H between
+    /// edges e and f: H couples edge e's ends (a_e, b_e) with edge f's as
+    /// [G −G; −G G] ([`TriangleSprings::stiffness_product`] per edge is
+    /// −Σ_f G_ef·(p_{b_f} − p_{a_f}) at a_e).
+    pub fn stiffness_blocks(&self, x: &[f64], s: f64) -> [[Matrix3<f64>; 3]; 3] {
+        let (d, l, dl) = self.edges(x);
+        let t = self.q * dl;
+        let e = [d[0] / l[0], d[1] / l[1], d[2] / l[2]];
+        std::array::from_fn(|k| {
+            std::array::from_fn(|f| {
+                let mut g = e[k] * e[f].transpose() * self.q[(k, f)];
+                if k == f {
+                    g += length_hessian(&e[k], l[k]) * t[k].max(0.0);
+                }
+                g * s
+            })
+        })
+    }
+
     /// The ends of edge e.
     pub fn edge(&self, e: usize) -> (usize, usize) {
         (self.nodes[EDGES[e].0], self.nodes[EDGES[e].1])

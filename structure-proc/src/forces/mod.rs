@@ -6,6 +6,7 @@
 pub mod assembly;
 pub mod damping;
 pub mod delingette;
+pub mod jacobian;
 pub mod pressure;
 pub mod spring;
 
@@ -167,6 +168,18 @@ impl System for Dynamics<'_> {
                 m.assembly.1.gather_add(slots, out);
             });
         }
+    }
+
+    fn jacobian_blocks(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        a: f64,
+        b: f64,
+        out: &mut Vec<jacobian::Block>,
+    ) -> bool {
+        jacobian::blocks(self.net, x, v, a, b, out);
+        true
     }
 
     fn couplings(&self) -> &[(usize, usize, f64)] {

@@ -3,7 +3,7 @@
 //! triangle pushes its three vertices with a third of jump·area·n.
 
 use super::spring::point;
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 pub use porous::area_normal2;
 
 /// jump·area·n/3, the share of each vertex of `tri`; `jump` in Pa.
@@ -34,4 +34,19 @@ pub fn porous_damping_product(
     let n = Vector3::from(n);
     let q: Vector3<f64> = tri.iter().map(|&j| point(p, j)).sum();
     n * (s * c * n.dot(&q))
+}
+
+/// The block s·c·n nᵀ of s·C that couples every vertex pair of `tri`
+/// ([`porous_damping_product`] sums it over the three vertices' p).
+#[inline]
+pub fn porous_damping_block(
+    law: &porous::Porous,
+    x: &[f64],
+    v: &[f64],
+    tri: &[usize; 3],
+    s: f64,
+) -> Matrix3<f64> {
+    let (c, n) = law.triangle_damping(x, v, tri);
+    let n = Vector3::from(n);
+    n * n.transpose() * (s * c)
 }

@@ -64,19 +64,36 @@ impl Spring {
         d * per_length
     }
 
+    /// The direction e, length l and tension T⁺ ≥ 0 the stiffness reads;
+    /// `None` for a zero length or a slack string (no stiffness).
+    #[inline]
+    fn stiffness_geometry(&self, x: &[f64]) -> Option<(Vector3<f64>, f64, f64)> {
+        let d = point(x, self.j) - point(x, self.i);
+        let l = d.norm();
+        let stretch = self.stretch(l);
+        if l == 0.0 || (self.tension_only && stretch == 0.0) {
+            return None;
+        }
+        Some((d / l, l, (self.k * stretch).max(0.0)))
+    }
+
+    /// The block S = s·(k e eᵀ + T⁺/l (I − e eᵀ)) of s·K: K couples the ends
+    /// as [S −S; −S S] ([`Spring::stiffness_product`] is −S·(p_j − p_i) at i).
+    pub fn stiffness_block(&self, x: &[f64], s: f64) -> Matrix3<f64> {
+        let Some((e, l, t)) = self.stiffness_geometry(x) else {
+            return Matrix3::zeros();
+        };
+        (e * e.transpose() * self.k + length_hessian(&e, l) * t) * s
+    }
+
     /// −(s·K·p) at node i, K = ∂²E/∂x²; node j gets its opposite. The
     /// geometric part (T/l)(I − eeᵀ) is kept only under tension so that K stays
     /// positive semi-definite.
     #[inline]
     pub fn stiffness_product(&self, x: &[f64], s: f64, p: &[f64]) -> Vector3<f64> {
-        let d = point(x, self.j) - point(x, self.i);
-        let l = d.norm();
-        let stretch = self.stretch(l);
-        if l == 0.0 || (self.tension_only && stretch == 0.0) {
+        let Some((e, l, t)) = self.stiffness_geometry(x) else {
             return Vector3::zeros();
-        }
-        let e = d / l;
-        let t = (self.k * stretch).max(0.0);
+        };
         let q = point(p, self.j) - point(p, self.i);
         -(e * (self.k * e.dot(&q)) + length_hessian(&e, l) * q * t) * s
     }

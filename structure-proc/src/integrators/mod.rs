@@ -10,6 +10,7 @@
 
 mod backward_euler;
 mod cg;
+mod cholesky;
 mod dormand_prince;
 mod euler_cromer;
 mod euler_richardson;

@@ -7,7 +7,9 @@
 //! system matrix-free, in the manner of Baraff & Witkin (SIGGRAPH 1998).
 
 use super::cg::Cg;
+use super::cholesky::Cholesky;
 use super::{NewtonParams, StepError, System};
+use structure_section::LinearSolver;
 
 /// One scheme's equation for a.
 pub struct Target<'a> {
@@ -34,6 +36,7 @@ pub struct Newton {
     /// Axial stiffness on each dof's diagonal, for the preconditioner.
     diag: Vec<f64>,
     cg: Cg,
+    cholesky: Cholesky,
 }
 
 /// Length of the bounding-box diagonal of the points in `x`.
@@ -159,31 +162,58 @@ impl Newton {
         Ok(())
     }
 
-    /// Solves (M + w·b·K + w·g·C)·Δa = residual by preconditioned conjugate
-    /// gradients, adds Δa to `a`, and returns the largest |Δa|.
+    /// Solves (M + w·b·K + w·g·C)·Δa = residual (by preconditioned conjugate
+    /// gradients, or with a Cholesky factorization: `linear_solver`), adds Δa
+    /// to `a`, and returns the largest |Δa|.
     fn correct(&mut self, sys: &dyn System, t: &Target, a: &mut [f64]) -> f64 {
-        let (n, inv_mass) = (a.len(), sys.inv_mass());
-        let (x, v) = (&self.x, &self.v);
+        let n = a.len();
         let (kb, kg) = (t.w * t.b, t.w * t.g);
-        self.cg.solve(
-            |p, out| {
-                sys.jacobian_product(x, v, kb, kg, p, out);
-                for d in 0..n {
-                    let w = inv_mass[d / 3];
-                    out[d] = if w == 0.0 { 0.0 } else { out[d] + p[d] / w };
-                }
-            },
-            &self.rhs,
-            &self.precond,
-            &mut self.da,
-            self.params.cg_tolerance,
-            self.params.max_cg_iterations,
-        );
+        let direct = self.params.linear_solver == LinearSolver::Cholesky && {
+            let (x, v) = (&self.x, &self.v);
+            let apply = operator(sys, x, v, kb, kg);
+            let tol = self.params.cg_tolerance;
+            self.cholesky
+                .solve(sys, x, v, (kb, kg), apply, &self.rhs, &mut self.da, tol)
+        };
+        if !direct {
+            self.iterative(sys, kb, kg);
+        }
         let mut largest = 0.0f64;
         for d in 0..n {
             a[d] += self.da[d];
             largest = largest.max(self.da[d].abs());
         }
         largest
+    }
+
+    /// da ← the conjugate-gradient solution of the Newton system.
+    fn iterative(&mut self, sys: &dyn System, kb: f64, kg: f64) {
+        self.cg.solve(
+            operator(sys, &self.x, &self.v, kb, kg),
+            &self.rhs,
+            &self.precond,
+            &mut self.da,
+            self.params.cg_tolerance,
+            self.params.max_cg_iterations,
+        );
+    }
+}
+
+/// p ↦ (M + kb·K + kg·C)·p at (x, v) over the free degrees of freedom, 0
+/// on the held ones: the Newton system's matrix.
+fn operator<'a>(
+    sys: &'a dyn System,
+    x: &'a [f64],
+    v: &'a [f64],
+    kb: f64,
+    kg: f64,
+) -> impl FnMut(&[f64], &mut [f64]) + 'a {
+    let inv_mass = sys.inv_mass();
+    move |p, out| {
+        sys.jacobian_product(x, v, kb, kg, p, out);
+        for (d, o) in out.iter_mut().enumerate() {
+            let w = inv_mass[d / 3];
+            *o = if w == 0.0 { 0.0 } else { *o + p[d] / w };
+        }
     }
 }
