@@ -56,6 +56,15 @@ impl Buffers {
             "the element slots",
             (3 * net.slots() * p.size()) as u64,
         )?;
+        let element_reals =
+            4 * net.springs.len() + 12 * net.membrane.len() + 2 * net.acting_dampers().len();
+        check_size(device, "the elements", (element_reals * p.size()) as u64)?;
+        let entries = net.nodes() + 1 + 3 * net.slots();
+        check_size(
+            device,
+            "the element nodes and the assembly",
+            4 * entries as u64,
+        )?;
         let storage = wgpu::BufferUsages::STORAGE;
         let copied = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
         let reals =
@@ -154,6 +163,20 @@ impl Solver {
     /// Hand `net` to the device for steps of `scheme`. The state starts at
     /// rest at the origin: [`Solver::upload`] sets it.
     pub fn new(gpu: &Gpu, net: &Network, scheme: Scheme) -> Result<Solver, GpuError> {
+        // Errors in creating buffers, pipelines and bindings come back here
+        // instead of reaching wgpu's default handler, which panics.
+        gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let made = Solver::make(gpu, net, scheme);
+        for _ in 0..2 {
+            if let Some(e) = pollster::block_on(gpu.device.pop_error_scope()) {
+                return Err(GpuError::Kernel(e.to_string()));
+            }
+        }
+        made
+    }
+
+    fn make(gpu: &Gpu, net: &Network, scheme: Scheme) -> Result<Solver, GpuError> {
         let device = gpu.device.clone();
         let precision = gpu.precision();
         let items = net.springs.len()
@@ -302,6 +325,9 @@ impl Solver {
     fn read(&self, first: u32, outs: &mut [&mut [f64]]) -> Result<(), GpuError> {
         let len = 3 * self.nodes;
         assert!(outs.iter().all(|o| o.len() == len), "3 values a node");
+        if len == 0 {
+            return Ok(());
+        }
         let size = (self.precision.size() * len) as u64;
         let bytes = size * outs.len() as u64;
         let mut encoder = self.device.create_command_encoder(&Default::default());
@@ -504,5 +530,28 @@ fn pipelines(
     match pollster::block_on(device.pop_error_scope()) {
         Some(e) => Err(GpuError::Kernel(e.to_string())),
         None => Ok(pipelines),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every thread index the kernels' `index` forms (gid.x + gid.y·x·64)
+    /// below n is reached, and x stays within the 65 535 workgroups an
+    /// adapter allows.
+    #[test]
+    fn the_workgroups_cover_every_thread() {
+        for n in [1, 63, 64, 65, 65_535 * 64, 65_535 * 64 + 1, 10_000_000] {
+            let (x, y) = workgroups(n);
+            assert!(x <= 65_535 && y >= 1, "{n}: {x} × {y}");
+            let threads = x as u64 * y as u64 * WORKGROUP as u64;
+            assert!(threads >= n as u64, "{n}: {threads} threads");
+            // The last row must be needed: no row past n.
+            assert!(
+                (x as u64 * (y as u64 - 1) * WORKGROUP as u64) < n as u64,
+                "{n}: a spare row"
+            );
+        }
     }
 }

@@ -13,7 +13,9 @@
 //!   by the scene's stepper on the CPU and on the GPU (`[structure]
 //!   device`) in windows of `TABLE_WINDOW` sub-steps: each window sends the
 //!   state and the pressure to the device and reads the state back, as a
-//!   coupled run pays it (`GPU_BENCH_TABLE_ONLY=1` skips the cloth).
+//!   coupled run pays it once the payload is released (while it is held,
+//!   or lines may break, the state crosses every sub-step)
+//!   (`GPU_BENCH_TABLE_ONLY=1` skips the cloth).
 
 mod common;
 

@@ -542,8 +542,8 @@ impl<S: Stepper> Driven<S> {
         self.substeps += step.substeps as u64;
         let between = self.obstacles.is_some()
             || self.contacts.is_some()
-            || !m.lines.is_empty()
-            || m.hold.is_some();
+            || m.lines.iter().any(|l| l.may_break())
+            || m.held();
         if !between {
             return match self.stepper.steps(m, &loads, h, step.substeps) {
                 Ok(()) => self

@@ -68,12 +68,24 @@ pub fn network(net: &Network, fluid: bool) -> structure_gpu::Network {
 /// them ([`Stepper::steps`]) stay on the device. Attached nodes move with
 /// their body there and come back at their exact place (x0 + v0·τ); the
 /// impulse they took goes to their attachment, as [`Model::finish_step`]
-/// does on the CPU.
+/// does on the CPU. A line break or a payload's release changes the
+/// network (a spring's stiffness, a node's mass): the device's copy is
+/// made anew when either differs from what it was made of, a window
+/// restored from its checkpoint included.
 pub struct OnDevice {
     name: &'static str,
+    gpu: Gpu,
+    scheme: Scheme,
     solver: Solver,
+    /// What the device's network was made of: the payload held, the lines broken.
+    made_of: (bool, usize),
     /// The reaction read back, 3 per node.
     reaction: Vec<f64>,
+}
+
+/// The payload held, the lines broken: what changes the network in a run.
+fn changes(m: &Model) -> (bool, usize) {
+    (m.held(), m.lines.iter().filter(|l| l.broken).count())
 }
 
 impl OnDevice {
@@ -89,17 +101,23 @@ impl OnDevice {
                 )
             }
         };
-        // The canopy's triangles take a fluid's jump whenever one comes
-        // (a zero jump adds nothing).
-        let net = network(&m.net, true);
         let gpu = Gpu::new()?;
-        let solver = Solver::new(&gpu, &net, scheme)?;
+        let solver = made(&gpu, m, scheme)?;
         Ok(OnDevice {
             name: section.integrator.name(),
+            gpu,
+            scheme,
             solver,
+            made_of: changes(m),
             reaction: vec![0.0; m.x.len()],
         })
     }
+}
+
+/// `m`'s network on the device. The canopy's triangles take a fluid's
+/// jump whenever one comes (a zero jump adds nothing).
+fn made(gpu: &Gpu, m: &Model, scheme: Scheme) -> Result<Solver, GpuError> {
+    Solver::new(gpu, &network(&m.net, true), scheme)
 }
 
 impl Stepper for OnDevice {
@@ -118,9 +136,23 @@ impl Stepper for OnDevice {
         dt: f64,
         n: u32,
     ) -> Result<(), (u32, StepError)> {
+        // A failure is reported at the window's first step: the device does
+        // not say which of its steps failed.
         let lost = |e: GpuError| (0, StepError::Device(e.to_string()));
+        if changes(m) != self.made_of {
+            self.solver = made(&self.gpu, m, self.scheme).map_err(lost)?;
+            self.made_of = changes(m);
+        }
         self.solver.upload(&m.x, &m.v);
         if !loads.pressure.is_empty() {
+            if loads.pressure.len() != m.triangles.len() {
+                let why = format!(
+                    "{} pressure values for {} triangles",
+                    loads.pressure.len(),
+                    m.triangles.len()
+                );
+                return Err((0, StepError::Device(why)));
+            }
             self.solver.set_pressure(loads.pressure);
         }
         self.solver.advance(dt, n as u64).map_err(lost)?;

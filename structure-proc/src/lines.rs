@@ -15,6 +15,13 @@ pub struct Line {
     pub broken: bool,
 }
 
+impl Line {
+    /// Whether it can still break: not yet broken, with a time or a tension to break at.
+    pub fn may_break(&self) -> bool {
+        !self.broken && (self.break_time.is_some() || self.break_tension.is_some())
+    }
+}
+
 /// Add a line from node `from` to node `to` of `segments` string segments of
 /// total rest length `rest`, axial stiffness E·A `ea` [N] and mass per length
 /// `density` [kg/m]. Interior nodes start on the straight chord; the line's mass
