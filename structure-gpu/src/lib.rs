@@ -34,6 +34,6 @@ mod program;
 mod solver;
 
 pub use device::{Gpu, GpuError, Precision};
-pub use network::{Damper, DampingLaw, Membrane, Network, Porous, Spring};
+pub use network::{Damper, DampingLaw, Membrane, Network, Spring};
 pub use program::Scheme;
 pub use solver::Solver;

@@ -40,21 +40,6 @@ pub struct Membrane {
     pub q: [[f64; 3]; 3],
 }
 
-/// The Darcy–Forchheimer load of a free stream through the canopy
-/// (thesis eqs. 6–10, the `porous` crate's law).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Porous {
-    /// The air's velocity [m/s].
-    pub free_stream: [f64; 3],
-    /// Darcy coefficient A [Pa·s/m²] (thesis eq. 7).
-    pub a: f64,
-    /// Forchheimer coefficient B [Pa·s²/m³] (thesis eq. 8).
-    pub b: f64,
-    pub porosity: f64,
-    /// The fabric's thickness [m].
-    pub thickness: f64,
-}
-
 /// How the dampers act.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DampingLaw {
@@ -83,7 +68,9 @@ pub struct Network {
     /// [`crate::Solver::set_pressure`], plus the porous law's. Empty where
     /// neither acts.
     pub triangles: Vec<[usize; 3]>,
-    pub porous: Option<Porous>,
+    /// The Darcy–Forchheimer law of a free stream through the canopy
+    /// (thesis eqs. 6–10), applied by the structure itself.
+    pub porous: Option<porous::Porous>,
 }
 
 impl Network {

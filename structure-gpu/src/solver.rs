@@ -56,15 +56,15 @@ impl Buffers {
             "the element slots",
             (3 * net.slots() * p.size()) as u64,
         )?;
-        let element_reals =
-            4 * net.springs.len() + 12 * net.membrane.len() + 2 * net.acting_dampers().len();
-        check_size(device, "the elements", (element_reals * p.size()) as u64)?;
-        let entries = net.nodes() + 1 + 3 * net.slots();
+        let (element_nodes, element_reals) = (net.element_nodes()?, net.element_reals());
+        let assembly = net.assembly()?;
         check_size(
             device,
-            "the element nodes and the assembly",
-            4 * entries as u64,
+            "the elements",
+            (element_reals.len() * p.size()) as u64,
         )?;
+        check_size(device, "the element nodes", 4 * element_nodes.len() as u64)?;
+        check_size(device, "the assembly", 4 * assembly.len() as u64)?;
         let storage = wgpu::BufferUsages::STORAGE;
         let copied = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
         let reals =
@@ -86,10 +86,10 @@ impl Buffers {
         Ok(Buffers {
             vecs: reals("state", &vec![0.0; state_bytes as usize / p.size()], copied),
             slots: reals("slots", &vec![0.0; 3 * net.slots()], storage),
-            element_nodes: words("element nodes", &net.element_nodes()?),
-            elements: reals("elements", &net.element_reals(), storage),
+            element_nodes: words("element nodes", &element_nodes),
+            elements: reals("elements", &element_reals, storage),
             nodes: reals("nodes", &net.node_reals(), storage),
-            assembly: words("assembly", &net.assembly()?),
+            assembly: words("assembly", &assembly),
             params: reals("params", &params, copied),
             received: reals("received", &vec![0.0; net.triangles.len()], copied),
         })
@@ -358,14 +358,6 @@ impl Solver {
         }
         self.readback.unmap();
         Ok(())
-    }
-
-    /// Wait for the queued steps (for timing).
-    pub fn finish(&self) -> Result<(), GpuError> {
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map(|_| ())
-            .map_err(|e| GpuError::Lost(e.to_string()))
     }
 }
 

@@ -52,13 +52,7 @@ pub fn network(net: &Network, fluid: bool) -> structure_gpu::Network {
         } else {
             Vec::new()
         },
-        porous: net.porous.as_ref().map(|p| structure_gpu::Porous {
-            free_stream: p.free_stream,
-            a: p.a,
-            b: p.b,
-            porosity: p.porosity,
-            thickness: p.thickness,
-        }),
+        porous: net.porous,
     }
 }
 

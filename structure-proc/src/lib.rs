@@ -32,6 +32,7 @@ pub mod release;
 pub mod rings;
 pub mod sheets;
 pub mod stability;
+pub mod stepper;
 pub mod system;
 pub mod window_start;
 
