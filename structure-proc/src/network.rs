@@ -9,6 +9,7 @@ use crate::forces::assembly::{Assembly, Scratch};
 use crate::forces::damping::{Damper, Law};
 use crate::forces::delingette::TriangleSprings;
 pub use crate::forces::spring::Spring;
+use crate::forces::spring_blocks::SpringBlocks;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NodeKind {
@@ -44,9 +45,10 @@ pub struct Network {
     pub inv_mass: Vec<f64>,
     /// Stiffness between node pairs, for Kang's method; set by [`Network::prepare`].
     pub couplings: Vec<(usize, usize, f64)>,
-    /// Which slots each node sums in the force, for the elastic and viscous
-    /// elements and for the pressure triangles; set by [`Network::prepare`].
-    pub assembly: (Assembly, Assembly),
+    /// Which slots each node sums; set by [`Network::prepare`].
+    pub assembly: Assemblies,
+    /// The springs' forces block by block of nodes; set by [`Network::prepare`].
+    pub spring_blocks: SpringBlocks,
     /// The slot buffer of the force evaluations, reused from step to step.
     pub scratch: Scratch,
 }
@@ -71,6 +73,7 @@ impl Network {
             self.couplings.extend(t.edge_stiffness());
         }
         self.assembly = assembly(self);
+        self.spring_blocks = SpringBlocks::new(&self.springs, self.nodes());
     }
 }
 
@@ -96,36 +99,57 @@ impl Layout {
     }
 }
 
+/// Which slots each node sums.
+#[derive(Debug, Clone, Default)]
+pub struct Assemblies {
+    /// The elastic and viscous elements: springs, membrane edges, dampers
+    /// ([`Layout`]), for the Jacobian products.
+    pub elements: Assembly,
+    /// The same without the springs (slot 0 is the first membrane edge's),
+    /// for the force, whose springs' part [`SpringBlocks`] sums.
+    pub after_springs: Assembly,
+    /// The pressure triangles.
+    pub pressure: Assembly,
+}
+
 /// Which slots every node sums: the elastic and viscous elements, then the
 /// pressure triangles. Built by [`Network::prepare`].
-fn assembly(m: &Network) -> (Assembly, Assembly) {
+fn assembly(m: &Network) -> Assemblies {
     let at = Layout::of(m);
     let pair =
         |base: usize, k: usize, i: usize, j: usize| [(i, base + k, false), (j, base + k, true)];
-    let elements = Assembly::new(m.nodes(), at.end, || {
-        let springs = m
-            .springs
+    let springs = || {
+        m.springs
             .iter()
             .enumerate()
-            .flat_map(move |(k, s)| pair(0, k, s.i, s.j));
+            .flat_map(move |(k, s)| pair(0, k, s.i, s.j))
+    };
+    // Membrane edges and dampers, their slots counted from `base`.
+    let after_springs = move |base: usize| {
         let membrane = m.membrane.iter().enumerate().flat_map(move |(k, t)| {
             (0..3).flat_map(move |e| {
                 let (a, b) = t.edge(e);
-                pair(at.membrane, 3 * k + e, a, b)
+                pair(at.membrane - base, 3 * k + e, a, b)
             })
         });
         let dampers = m
             .dampers
             .iter()
             .enumerate()
-            .flat_map(move |(k, d)| pair(at.dampers, k, d.i, d.j));
-        springs.chain(membrane).chain(dampers)
-    });
+            .flat_map(move |(k, d)| pair(at.dampers - base, k, d.i, d.j));
+        membrane.chain(dampers)
+    };
     let pressure = Assembly::new(m.nodes(), m.triangles.len(), || {
         m.triangles
             .iter()
             .enumerate()
             .flat_map(|(k, tri)| tri.map(|n| (n, k, false)))
     });
-    (elements, pressure)
+    Assemblies {
+        elements: Assembly::new(m.nodes(), at.end, || springs().chain(after_springs(0))),
+        after_springs: Assembly::new(m.nodes(), at.end - at.membrane, || {
+            after_springs(at.membrane)
+        }),
+        pressure,
+    }
 }

@@ -8,9 +8,12 @@ pub mod damping;
 pub mod delingette;
 pub mod jacobian;
 pub mod pressure;
+mod simd;
 pub mod spring;
+pub mod spring_batch;
+pub mod spring_blocks;
 
-use crate::network::{Layout, Network};
+use crate::network::{Assemblies, Layout, Network};
 use crate::system::System;
 use assembly::{fill, Slot};
 pub use pressure::area_normal2;
@@ -57,16 +60,20 @@ fn families<'s>(
 /// [`assembly`](mod@assembly)); the sum is the same on any number of threads.
 pub fn total_force(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
     let at = checked_layout(m);
-    m.scratch.with(at.end, |slots| {
-        let (springs, membrane, dampers) = families(slots, &at);
-        fill(springs, &m.springs, |_, s| [s.force(x)]);
-        fill(membrane, &m.membrane, |_, t| t.edge_forces(x));
-        match m.damping {
-            Some(law) => fill(dampers, &m.dampers, |_, d| [d.force(law, x, v)]),
-            None => dampers.fill(Slot::zeros()),
-        }
-        m.assembly.0.gather(slots, |n| weight(m, n), f);
-    });
+    m.spring_blocks.forces(x, |n| weight(m, n), f);
+    // The membrane's and dampers' slots follow the springs' in each node's
+    // sum, as in the network's assembly.
+    if at.end > at.membrane {
+        m.scratch.with(at.end - at.membrane, |slots| {
+            let (membrane, dampers) = slots.split_at_mut(at.dampers - at.membrane);
+            fill(membrane, &m.membrane, |_, t| t.edge_forces(x));
+            match m.damping {
+                Some(law) => fill(dampers, &m.dampers, |_, d| [d.force(law, x, v)]),
+                None => dampers.fill(Slot::ZERO),
+            }
+            m.assembly.after_springs.gather_add(slots, f);
+        });
+    }
     add_pressure(m, loads, x, v, f);
 }
 
@@ -77,14 +84,15 @@ pub fn total_force(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f6
 pub fn external_force(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
     checked_layout(m);
     for (n, fn_) in f.chunks_exact_mut(3).enumerate() {
-        fn_.copy_from_slice(weight(m, n).as_slice());
+        fn_.copy_from_slice(&weight(m, n).0[..3]);
     }
     add_pressure(m, loads, x, v, f);
 }
 
 /// m·g of node n [N].
 fn weight(m: &Network, n: usize) -> Slot {
-    Slot::from(m.gravity) * m.mass[n]
+    let [gx, gy, gz] = m.gravity.map(|g| g * m.mass[n]);
+    Slot::new(gx, gy, gz)
 }
 
 /// f ← f + the pressure jump's load: the fluid's when one sends it, plus the
@@ -103,16 +111,22 @@ fn add_pressure(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64])
                 .map_or(0.0, |p| p.triangle_jump(x, v, tri));
             [pressure::vertex_load(x, tri, received + porous)]
         });
-        m.assembly.1.gather_add(slots, f);
+        m.assembly.pressure.gather_add(slots, f);
     });
 }
 
 /// The slot layout of `m`, checked against the assembly [`Network::prepare`] built.
 fn checked_layout(m: &Network) -> Layout {
     let at = Layout::of(m);
-    let (elements, pressure) = &m.assembly;
+    let Assemblies {
+        elements,
+        after_springs,
+        pressure,
+    } = &m.assembly;
     assert!(
         at.end == elements.slots()
+            && at.end - at.membrane == after_springs.slots()
+            && m.spring_blocks.springs() == m.springs.len()
             && m.triangles.len() == pressure.slots()
             && m.nodes() == elements.nodes(),
         "the model changed after Network::prepare: call it again"
@@ -145,8 +159,8 @@ impl System for Dynamics<'_> {
                 fill(springs, &m.springs, |_, s| [s.stiffness_product(x, a, p)]);
                 fill(membrane, &m.membrane, |_, t| t.stiffness_product(x, a, p));
             } else {
-                springs.fill(Slot::zeros());
-                membrane.fill(Slot::zeros());
+                springs.fill(Slot::ZERO);
+                membrane.fill(Slot::ZERO);
             }
             match (m.damping, b != 0.0) {
                 (Some(law), true) => {
@@ -156,16 +170,16 @@ impl System for Dynamics<'_> {
                         |_, d| [d.damping_product(law, x, b, p)],
                     )
                 }
-                _ => dampers.fill(Slot::zeros()),
+                _ => dampers.fill(Slot::ZERO),
             }
-            m.assembly.0.gather(slots, |_| Slot::zeros(), out);
+            m.assembly.elements.gather(slots, |_| Slot::ZERO, out);
         });
         if let (Some(law), true) = (&m.porous, b != 0.0) {
             m.scratch.with(m.triangles.len(), |slots| {
                 fill(slots, &m.triangles, |_, tri| {
                     [pressure::porous_damping_product(law, x, v, tri, b, p)]
                 });
-                m.assembly.1.gather_add(slots, out);
+                m.assembly.pressure.gather_add(slots, out);
             });
         }
     }

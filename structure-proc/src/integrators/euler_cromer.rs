@@ -17,8 +17,7 @@ impl Integrator for EulerCromer {
     ) -> Result<(), StepError> {
         let ([f], reaction) = self.0.begin(x.len());
         sys.force(x, v, f);
-        kick(v, f, sys.inv_mass(), h, reaction); // (15)
-        drift(x, v, h); // (16)
+        kick_drift(x, v, f, sys.inv_mass(), (h, h), reaction); // (15), then (16)
         Ok(())
     }
 

@@ -22,8 +22,7 @@ impl Integrator for VelocityVerlet {
         let inv_mass = sys.inv_mass();
         sys.force(x, v, f0);
         kicked(vp, v, f0, inv_mass, h); // predictor for (39)
-        kick(v, f0, inv_mass, 0.5 * h, reaction); // (37)
-        drift(x, v, h); // (38)
+        kick_drift(x, v, f0, inv_mass, (0.5 * h, h), reaction); // (37), then (38)
         sys.force(x, vp, f1); // (39)
         kick(v, f1, inv_mass, 0.5 * h, reaction); // (40)
         Ok(())
