@@ -10,7 +10,8 @@
 //! a run pays), their ratio, the time per n·log n (flat where the cost
 //! grows like n log n), and the growth exponents between the smallest and
 //! the largest size. `IMPLICIT_BENCH_N=100` measures one
-//! size; `IMPLICIT_BENCH_NO_CG=1` leaves out conjugate gradients.
+//! size; `IMPLICIT_BENCH_NO_CG=1` leaves out conjugate gradients. Multigrid
+//! (`linear_solver = "multigrid"`) runs beside them.
 
 mod common;
 
@@ -21,23 +22,27 @@ use structure_proc::{build_model, integrator, Model};
 use structure_section::LinearSolver;
 
 /// Backward-Euler steps from `m` with a new stepper: the first step's time
-/// (a Cholesky run factorizes there) and the mean of the `steps` after it
+/// (a Cholesky run factorizes there), the mean of the `steps` after it
 /// (where it solves by conjugate gradients preconditioned with a kept
-/// factorization, factorizing anew when they stall) [s].
-fn steps(m: &Model, solver: LinearSolver, n: u32, dt: f64, steps: usize) -> (f64, f64) {
+/// factorization or hierarchy, made anew when they stall) [s], and the mean
+/// time of a Newton iteration's linear solve over those steps [s].
+fn steps(m: &Model, solver: LinearSolver, n: u32, dt: f64, steps: usize) -> (f64, f64, f64) {
     let mut section = cloth_section(n).0;
     section.newton.linear_solver = solver;
     let mut stepper = integrator(section.scheme());
     let mut m = m.clone();
-    let mut step = || {
+    let mut step = |stepper: &mut Box<dyn structure_proc::Integrator>| {
         let start = Instant::now();
         m.step(stepper.as_mut(), &Loads::default(), dt)
             .expect("step");
         start.elapsed().as_secs_f64()
     };
-    let first = step();
-    let rest: f64 = (0..steps).map(|_| step()).sum();
-    (first, rest / steps as f64)
+    let first = step(&mut stepper);
+    let before = stepper.linear_solves().expect("an implicit scheme");
+    let rest: f64 = (0..steps).map(|_| step(&mut stepper)).sum();
+    let after = stepper.linear_solves().expect("an implicit scheme");
+    let per_solve = (after.1 - before.1) / (after.0 - before.0).max(1) as f64;
+    (first, rest / steps as f64, per_solve)
 }
 
 /// The cloth on n × n nodes, 5 steps into its fall.
@@ -63,54 +68,63 @@ fn main() {
         Ok(n) => vec![n.parse().expect("IMPLICIT_BENCH_N is a node count a side")],
         Err(_) => vec![23, 50, 100, 160, 224],
     };
-    println!("backward-Euler steps of the membrane cloth, 2 threads: the first, and the mean of the 10 after it");
-    println!(
-        "{:>8} {:>12} {:>12} {:>14} {:>14} {:>7} {:>18}",
-        "nodes",
-        "CG first ms",
-        "CG next ms",
-        "Chol. first ms",
-        "Chol. next ms",
-        "CG/Ch.",
-        "Ch. next/nlogn ns"
-    );
-    let mut rows = Vec::new();
+    let mut solvers = vec![LinearSolver::Cholesky, LinearSolver::Multigrid];
+    if with_cg {
+        solvers.insert(0, LinearSolver::Cg);
+    }
+    println!("backward-Euler steps of the membrane cloth, 2 threads: the first, the mean of the 10 after it,");
+    println!("and the mean linear solve of a Newton iteration over those [ms]");
+    print!("{:>8}", "nodes");
+    for solver in &solvers {
+        let name = format!("{solver:?}");
+        print!(
+            " {:>16} {:>15} {:>16}",
+            name.clone() + " first",
+            name.clone() + " next",
+            name + " solve"
+        );
+    }
+    println!(" {:>18}", "solve/(n ln n) ns");
+    let mut rows: Vec<(f64, Vec<(f64, f64)>)> = Vec::new();
     pool.install(|| {
         for n in sizes {
             let (m, dt) = falling(n);
             let nodes = m.nodes() as f64;
-            let direct = steps(&m, LinearSolver::Cholesky, n, dt, 10);
-            let cg = with_cg.then(|| steps(&m, LinearSolver::Cg, n, dt, 10));
-            let ms = |t: Option<f64>| t.map_or("—".into(), |t| format!("{:.1}", t * 1e3));
-            println!(
-                "{:>8} {:>12} {:>12} {:>14.1} {:>14.1} {:>7} {:>18.1}",
-                m.nodes(),
-                ms(cg.map(|c| c.0)),
-                ms(cg.map(|c| c.1)),
-                direct.0 * 1e3,
-                direct.1 * 1e3,
-                cg.map_or("—".into(), |c| format!("{:.1}", c.1 / direct.1)),
-                direct.1 * 1e9 / (nodes * nodes.ln()),
-            );
-            rows.push((nodes, cg.map(|c| c.1), direct.1));
+            print!("{:>8}", m.nodes());
+            let mut next = Vec::new();
+            for &solver in &solvers {
+                let (first, mean, solve) = steps(&m, solver, n, dt, 10);
+                print!(
+                    " {:>16.1} {:>15.1} {:>16.2}",
+                    first * 1e3,
+                    mean * 1e3,
+                    solve * 1e3
+                );
+                next.push((mean, solve));
+            }
+            let per = next
+                .iter()
+                .map(|t| format!("{:.0}", t.1 * 1e9 / (nodes * nodes.ln())));
+            println!(" {:>18}", per.collect::<Vec<_>>().join(" / "));
+            rows.push((nodes, next));
         }
     });
     if let (Some(first), Some(last)) = (rows.first(), rows.last()) {
         if rows.len() > 1 {
             let growth = |a: f64, b: f64| (b / a).ln() / (last.0 / first.0).ln();
-            print!(
-                "growth exponent of a step from {} to {} nodes: Cholesky {:.2}",
+            println!(
+                "growth exponents from {} to {} nodes (n log n over this range: {:.2}):",
                 first.0,
                 last.0,
-                growth(first.2, last.2)
-            );
-            if let (Some(a), Some(b)) = (first.1, last.1) {
-                print!(", CG {:.2}", growth(a, b));
-            }
-            println!(
-                " (n log n over this range: {:.2})",
                 growth(first.0 * first.0.ln(), last.0 * last.0.ln())
             );
+            for (k, solver) in solvers.iter().enumerate() {
+                println!(
+                    "  {solver:?}: a step {:.2}, a linear solve {:.2}",
+                    growth(first.1[k].0, last.1[k].0),
+                    growth(first.1[k].1, last.1[k].1)
+                );
+            }
         }
     }
 }

@@ -180,6 +180,10 @@ pub enum LinearSolver {
     /// converge in a few iterations (`structure-proc/src/integrators/cholesky.rs`).
     #[default]
     Cholesky,
+    /// Conjugate gradients preconditioned with smoothed-aggregation algebraic
+    /// multigrid, whose cost grows like the node count
+    /// (`structure-proc/src/integrators/multigrid.rs`).
+    Multigrid,
 }
 
 impl Default for NewtonParams {

@@ -69,6 +69,10 @@ impl Integrator for BackwardEuler {
         Ok(())
     }
 
+    fn linear_solves(&self) -> Option<(u64, f64)> {
+        Some(self.newton.solves)
+    }
+
     fn reaction(&self) -> &[f64] {
         &self.work.reaction
     }

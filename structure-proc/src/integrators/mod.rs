@@ -9,6 +9,7 @@
 //! is the step's [`Integrator::reaction`], the impulse sent to rigid-proc.
 
 mod backward_euler;
+mod block_sparse;
 mod cg;
 mod cholesky;
 mod dormand_prince;
@@ -17,6 +18,7 @@ mod euler_richardson;
 mod explicit_euler;
 mod improved_euler;
 mod kang;
+mod multigrid;
 mod newmark;
 mod newton;
 mod rk4;
@@ -55,6 +57,12 @@ pub trait Integrator: Send {
 
     /// Internal steps taken so far, for schemes that choose their own (adaptive ones).
     fn internal_steps(&self) -> Option<u64> {
+        None
+    }
+
+    /// The Newton iterations' linear solves so far and the seconds they
+    /// took (each with its correction's bookkeeping), for implicit schemes.
+    fn linear_solves(&self) -> Option<(u64, f64)> {
         None
     }
 

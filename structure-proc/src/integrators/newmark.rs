@@ -97,6 +97,10 @@ impl Integrator for Newmark {
         Ok(())
     }
 
+    fn linear_solves(&self) -> Option<(u64, f64)> {
+        Some(self.newton.solves)
+    }
+
     fn reaction(&self) -> &[f64] {
         &self.work.reaction
     }

@@ -8,6 +8,7 @@
 
 use super::cg::Cg;
 use super::cholesky::Cholesky;
+use super::multigrid::Multigrid;
 use super::{NewtonParams, StepError, System};
 use structure_section::LinearSolver;
 
@@ -37,6 +38,9 @@ pub struct Newton {
     diag: Vec<f64>,
     cg: Cg,
     cholesky: Cholesky,
+    multigrid: Multigrid,
+    /// Linear solves so far and the seconds they took, for the benches.
+    pub solves: (u64, f64),
 }
 
 /// Length of the bounding-box diagonal of the points in `x`.
@@ -98,7 +102,10 @@ impl Newton {
                 break;
             }
             self.residual(sys, t, a)?;
+            let start = std::time::Instant::now();
             correction = lever * self.correct(sys, t, a);
+            self.solves.0 += 1;
+            self.solves.1 += start.elapsed().as_secs_f64();
             if !correction.is_finite() {
                 return Err(StepError::NonFinite);
             }
@@ -162,20 +169,31 @@ impl Newton {
         Ok(())
     }
 
-    /// Solves (M + w·b·K + w·g·C)·Δa = residual (by preconditioned conjugate
-    /// gradients, or with a Cholesky factorization: `linear_solver`), adds Δa
-    /// to `a`, and returns the largest |Δa|.
+    /// Solves (M + w·b·K + w·g·C)·Δa = residual (by conjugate gradients
+    /// preconditioned with the diagonal, a Cholesky factorization or
+    /// multigrid: `linear_solver`), adds Δa to `a`, and returns the largest |Δa|.
     fn correct(&mut self, sys: &dyn System, t: &Target, a: &mut [f64]) -> f64 {
         let n = a.len();
         let (kb, kg) = (t.w * t.b, t.w * t.g);
-        let direct = self.params.linear_solver == LinearSolver::Cholesky && {
+        let tol = self.params.cg_tolerance;
+        let solved = {
             let (x, v) = (&self.x, &self.v);
             let apply = operator(sys, x, v, kb, kg);
-            let tol = self.params.cg_tolerance;
-            self.cholesky
-                .solve(sys, x, v, (kb, kg), apply, &self.rhs, &mut self.da, tol)
+            match self.params.linear_solver {
+                LinearSolver::Cg => false,
+                LinearSolver::Cholesky => {
+                    self.cholesky
+                        .solve(sys, x, v, (kb, kg), apply, &self.rhs, &mut self.da, tol)
+                }
+                LinearSolver::Multigrid => {
+                    let limit = self.params.max_cg_iterations;
+                    let (rhs, da) = (&self.rhs, &mut self.da);
+                    self.multigrid
+                        .solve(sys, x, v, (kb, kg), apply, rhs, da, tol, limit)
+                }
+            }
         };
-        if !direct {
+        if !solved {
             self.iterative(sys, kb, kg);
         }
         let mut largest = 0.0f64;
@@ -201,7 +219,7 @@ impl Newton {
 
 /// p ↦ (M + kb·K + kg·C)·p at (x, v) over the free degrees of freedom, 0
 /// on the held ones: the Newton system's matrix.
-fn operator<'a>(
+pub(super) fn operator<'a>(
     sys: &'a dyn System,
     x: &'a [f64],
     v: &'a [f64],
