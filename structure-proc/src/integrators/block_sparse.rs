@@ -41,17 +41,6 @@ impl Bsr {
         self.col[r.clone()].iter().copied().zip(&self.val[r])
     }
 
-    /// y ← A·x (3 values a node).
-    pub fn apply(&self, x: &[f64], y: &mut [f64]) {
-        for (i, yi) in y.chunks_exact_mut(3).enumerate() {
-            let mut s = nalgebra::Vector3::zeros();
-            for (j, b) in self.row(i) {
-                s += b * nalgebra::Vector3::new(x[3 * j], x[3 * j + 1], x[3 * j + 2]);
-            }
-            yi.copy_from_slice(s.as_slice());
-        }
-    }
-
     /// Aᵀ.
     pub fn transpose(&self) -> Bsr {
         let mut rows: Vec<Vec<(usize, B3)>> = vec![Vec::new(); self.cols];
@@ -123,5 +112,57 @@ impl Row {
             self.seen[j] = false;
         }
         self.cols.clear();
+    }
+}
+
+/// A [`Bsr`] kept for products only, in f32 blocks and 32-bit columns: half
+/// the bytes a product reads, which is what a multigrid cycle pays for once
+/// its matrices outgrow the cache. Products sum in f64.
+#[derive(Debug, Clone, Default)]
+pub struct Bsr32 {
+    pub rows: usize,
+    start: Vec<usize>,
+    col: Vec<u32>,
+    val: Vec<nalgebra::Matrix3<f32>>,
+}
+
+impl Bsr32 {
+    pub fn new(m: &Bsr) -> Bsr32 {
+        assert!(m.cols <= u32::MAX as usize);
+        Bsr32 {
+            rows: m.rows,
+            start: m.start.clone(),
+            col: m.col.iter().map(|&j| j as u32).collect(),
+            val: m.val.iter().map(|b| b.cast::<f32>()).collect(),
+        }
+    }
+
+    /// The inverses of the (rounded) diagonal blocks, so that a smoother and
+    /// a residual of this matrix read the same matrix; the identity where
+    /// one is singular.
+    pub fn diagonal_inverses(&self) -> Vec<B3> {
+        (0..self.rows)
+            .map(|i| {
+                let d = self.row(i).find(|&(j, _)| j == i).map(|(_, b)| b);
+                d.and_then(|d| d.try_inverse()).unwrap_or_else(B3::identity)
+            })
+            .collect()
+    }
+
+    pub fn row(&self, i: usize) -> impl Iterator<Item = (usize, B3)> + '_ {
+        let r = self.start[i]..self.start[i + 1];
+        let blocks = self.val[r.clone()].iter().map(|b| b.cast::<f64>());
+        self.col[r].iter().map(|&j| j as usize).zip(blocks)
+    }
+
+    /// y ← A·x (3 values a node).
+    pub fn apply(&self, x: &[f64], y: &mut [f64]) {
+        for (i, yi) in y.chunks_exact_mut(3).enumerate() {
+            let mut s = nalgebra::Vector3::zeros();
+            for (j, b) in self.row(i) {
+                s += b * nalgebra::Vector3::new(x[3 * j], x[3 * j + 1], x[3 * j + 2]);
+            }
+            yi.copy_from_slice(s.as_slice());
+        }
     }
 }

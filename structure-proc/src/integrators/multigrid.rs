@@ -1,8 +1,9 @@
 //! The Newton step's linear system M + a·K + b·C solved by conjugate
 //! gradients preconditioned with smoothed-aggregation algebraic multigrid
-//! (Vaněk, Mandel & Brezina, Computing 56, 1996), so that the cost of a
-//! solve grows like the node count: a V-cycle costs a few passes over the
-//! matrix, and the iterations it needs do not grow with the mesh.
+//! (Vaněk, Mandel & Brezina, Computing 56, 1996): a V-cycle costs a few
+//! passes over the matrix, and the iterations it needs grow slowly with the
+//! mesh (12 on 16 × 16 nodes, 20 on 64 × 64; the README's implicit bench
+//! for what a solve costs from 529 to 50 176 nodes).
 //!
 //! The hierarchy: nodes are grouped into aggregates (a node and its
 //! neighbours, greedily); the tentative prolongator P₀ moves each
@@ -18,7 +19,7 @@
 //! and time step to the next and built anew only when the iterations it
 //! preconditions stall past [`LAGGED_ITERATIONS`].
 
-use super::block_sparse::{Bsr, B3};
+use super::block_sparse::{Bsr, Bsr32, B3};
 use super::cg::Cg;
 use super::System;
 use crate::forces::jacobian::Block;
@@ -28,8 +29,9 @@ use nalgebra::{DMatrix, Vector3};
 pub const COARSEST: usize = 64;
 
 /// The most nodes a level that stops coarsening may have to be solved
-/// directly (a dense factorization of 3 600 unknowns).
-const MOST_DENSE: usize = 1200;
+/// directly (a dense factorization of 1 200 unknowns); with more, the
+/// Newton step falls back on the diagonal preconditioner.
+const MOST_DENSE: usize = 400;
 
 /// Iterations preconditioned by the kept hierarchy before it is built anew.
 const LAGGED_ITERATIONS: u32 = 30;
@@ -53,12 +55,14 @@ pub struct Multigrid {
     pub iterations: u32,
 }
 
+/// A level's matrices, kept in f32 for the cycles (a preconditioner needs
+/// no more; the products sum in f64 and the iterations stay f64).
 struct Level {
-    a: Bsr,
+    a: Bsr32,
     inverse_diagonal: Vec<B3>,
     /// To this level from the next coarser one, and its transpose.
-    p: Bsr,
-    pt: Bsr,
+    p: Bsr32,
+    pt: Bsr32,
 }
 
 impl Multigrid {
@@ -123,22 +127,24 @@ impl Multigrid {
             let p = prolongator(&m, &inverse_diagonal, &aggregate, count);
             let pt = p.transpose();
             let coarse = pt.mul(&m.mul(&p));
+            let a = Bsr32::new(&std::mem::replace(&mut m, coarse));
             self.levels.push(Level {
-                a: std::mem::replace(&mut m, coarse),
-                inverse_diagonal,
-                p,
-                pt,
+                inverse_diagonal: a.diagonal_inverses(),
+                a,
+                p: Bsr32::new(&p),
+                pt: Bsr32::new(&pt),
             });
         }
         if m.rows > MOST_DENSE {
             return false;
         }
         self.coarse = DenseCholesky::new(&m);
+        let a = Bsr32::new(&m);
         self.levels.push(Level {
-            inverse_diagonal: m.diagonal_inverses(),
-            a: m,
-            p: Bsr::default(),
-            pt: Bsr::default(),
+            inverse_diagonal: a.diagonal_inverses(),
+            a,
+            p: Bsr32::default(),
+            pt: Bsr32::default(),
         });
         self.coarse.is_some()
     }
