@@ -18,19 +18,19 @@
 use super::assembly::{Assembly, Slot};
 use super::spring_batch::SpringBatch;
 
-/// out[t] ← the force on node i of spring `base + t`, for every slot of
+/// out[t] ← the force on node i of spring t, for every slot of
 /// `out`, as [`crate::Spring::force`] computes it; `false` (nothing written)
 /// without AVX2.
-pub fn spring_forces(springs: &SpringBatch, x: &[f64], base: usize, out: &mut [Slot]) -> bool {
+pub fn spring_forces(springs: &SpringBatch, x: &[f64], out: &mut [Slot]) -> bool {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
-        assert!(base + out.len() <= springs.len() && 3 * springs.nodes() <= x.len());
+        assert!(out.len() <= springs.len() && 3 * springs.nodes() <= x.len());
         // SAFETY: AVX2 is present; the assert and SpringBatch::new (every end
         // below `nodes`) keep every read inside `springs` and `x`.
-        unsafe { avx2::spring_forces(springs, x, base, out) };
+        unsafe { avx2::spring_forces(springs, x, out) };
         return true;
     }
-    let _ = (springs, x, base, out);
+    let _ = (springs, x, out);
     false
 }
 
@@ -108,11 +108,11 @@ mod avx2 {
     }
 
     #[target_feature(enable = "avx2")]
-    pub unsafe fn spring_forces(s: &SpringBatch, x: &[f64], base: usize, out: &mut [Slot]) {
+    pub unsafe fn spring_forces(s: &SpringBatch, x: &[f64], out: &mut [Slot]) {
         let whole = out.len() / 4 * 4;
         for t in (0..whole).step_by(4) {
-            let d = differences(s, x, base + t);
-            let p = per_length(s, &d, base + t);
+            let d = differences(s, x, t);
+            let p = per_length(s, &d, t);
             let o = out.as_mut_ptr().add(t) as *mut f64;
             _mm256_store_pd(o, _mm256_mul_pd(d[0], _mm256_permute4x64_pd(p, 0x00)));
             _mm256_store_pd(
@@ -129,7 +129,7 @@ mod avx2 {
             );
         }
         for (t, o) in out.iter_mut().enumerate().skip(whole) {
-            *o = s.scalar_force(x, base + t);
+            *o = s.scalar_force(x, t);
         }
     }
 

@@ -67,7 +67,7 @@ impl SpringBatch {
     /// ([`Spring::force`]; node j gets its opposite).
     pub fn forces(&self, x: &[f64], out: &mut [Slot]) {
         assert_eq!(out.len(), self.len(), "slot buffer of the wrong length");
-        if !simd::spring_forces(self, x, 0, out) {
+        if !simd::spring_forces(self, x, out) {
             for (k, o) in out.iter_mut().enumerate() {
                 *o = self.scalar_force(x, k);
             }
