@@ -149,7 +149,9 @@ impl Bsr32 {
             .collect()
     }
 
-    pub fn row(&self, i: usize) -> impl Iterator<Item = (usize, B3)> + '_ {
+    /// Row i's blocks, from either end (a backward sweep reads them
+    /// backwards, so that it streams through memory in one direction).
+    pub fn row(&self, i: usize) -> impl DoubleEndedIterator<Item = (usize, B3)> + '_ {
         let r = self.start[i]..self.start[i + 1];
         let blocks = self.val[r.clone()].iter().map(|b| b.cast::<f64>());
         self.col[r].iter().map(|&j| j as usize).zip(blocks)
