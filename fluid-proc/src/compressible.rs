@@ -26,7 +26,7 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 /// What a side of the box does to the gas.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum GasSide {
     /// A slip wall that reflects: the ghosts mirror the cells with the
     /// normal momentum reversed, so no mass, momentum along the wall or
@@ -37,6 +37,10 @@ pub enum GasSide {
     Outflow,
     /// Wraps to the opposite side.
     Periodic,
+    /// The ghosts hold this state: a supersonic inflow, every
+    /// characteristic entering the box (a subsonic one would be given more
+    /// than it takes, and reflect).
+    State(Primitive),
 }
 
 /// The box, its sides and the gas.
@@ -227,20 +231,27 @@ impl Compressible {
         low.map(|x| self.comm.min(x))
     }
 
-    /// The longest stable step: CFL / max over the box's cells of
-    /// Σ_d (|u_d| + c)/h_d, on every rank.
+    /// The longest stable step: CFL / max over the box's cells and the
+    /// states its `state` sides hold of Σ_d (|u_d| + c)/h_d, on every rank
+    /// (the held gas enters the first cells at its own speed).
     pub fn stable_dt(&self) -> f64 {
         let s = &self.setup;
         let active: Vec<usize> = (0..3).filter(|&d| s.n[d] > 1).collect();
+        let rate_of = |u: &State| {
+            let c = s.gas.sound_speed(u);
+            active
+                .iter()
+                .map(|&d| ((u[1 + d] / u[0]).abs() + c) / s.h[d])
+                .sum::<f64>()
+        };
+        let held = s.sides.iter().flatten().filter_map(|side| match side {
+            GasSide::State(w) => Some(s.gas.conserved(*w)),
+            _ => None,
+        });
         let rate = self
             .own()
-            .map(|u| {
-                let c = s.gas.sound_speed(u);
-                active
-                    .iter()
-                    .map(|&d| ((u[1 + d] / u[0]).abs() + c) / s.h[d])
-                    .sum::<f64>()
-            })
+            .map(&rate_of)
+            .chain(held.map(|u| rate_of(&u)))
             .fold(0.0, f64::max);
         let dt = if rate > 0.0 {
             s.cfl / rate
@@ -362,6 +373,10 @@ impl Compressible {
             }
             let (s, m) = (lay.stride[a] as isize, lay.m[a] as isize);
             let sides = self.setup.sides[a];
+            let held = sides.map(|side| match side {
+                GasSide::State(w) => self.setup.gas.conserved(w),
+                _ => State::default(),
+            });
             let shared = self.shared_sides(a);
             let u = &mut self.u;
             lay.for_each_line(a, |base| {
@@ -376,7 +391,7 @@ impl Compressible {
                     }
                     return;
                 }
-                for (side, up) in [(sides[0], false), (sides[1], true)] {
+                for (side, up, held) in [(sides[0], false, held[0]), (sides[1], true, held[1])] {
                     if shared[up as usize].is_some() {
                         continue;
                     }
@@ -392,6 +407,7 @@ impl Compressible {
                             // A periodic side facing another kind is
                             // refused by the scenario check.
                             GasSide::Periodic => u[ix(edge)],
+                            GasSide::State(_) => held,
                         };
                         u[ix(edge + dir * k)] = ghost;
                     }

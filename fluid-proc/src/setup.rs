@@ -22,15 +22,20 @@ pub fn flow_from(section: &FluidSection) -> Option<Incompressible> {
 /// [`flow_from`], this rank's slab of it (`part.rs`).
 pub fn flow_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Incompressible> {
     let b = section.flow_box?;
-    let sides = section.resolved_sides()?.map(|s| {
-        s.map(|s| match s {
-            SideSpec::Wall => Side::WALL,
-            SideSpec::Velocity(v) => Side::Velocity(v),
-            SideSpec::Parabolic(v) => Side::Parabolic(v),
-            SideSpec::Outflow => Side::Outflow,
-            SideSpec::Periodic => Side::Periodic,
-        })
-    });
+    let mut sides = [[Side::WALL; 2]; 3];
+    for (d, pair) in section.resolved_sides()?.iter().enumerate() {
+        for (s, side) in pair.iter().enumerate() {
+            sides[d][s] = match *side {
+                SideSpec::Wall => Side::WALL,
+                SideSpec::Velocity(v) => Side::Velocity(v),
+                SideSpec::Parabolic(v) => Side::Parabolic(v),
+                SideSpec::Outflow => Side::Outflow,
+                SideSpec::Periodic => Side::Periodic,
+                // A gas's side: the scenario check refuses it here.
+                SideSpec::State(_) => return None,
+            };
+        }
+    }
     let grid = Grid {
         n: b.cells.map(|n| n as usize),
         h: b.spacing(),
@@ -72,6 +77,11 @@ pub fn gas_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Compressibl
                 SideSpec::Wall => GasSide::Wall,
                 SideSpec::Outflow => GasSide::Outflow,
                 SideSpec::Periodic => GasSide::Periodic,
+                SideSpec::State(w) => GasSide::State(Primitive {
+                    density: w.density,
+                    velocity: w.velocity,
+                    pressure: w.pressure,
+                }),
                 SideSpec::Velocity(_) | SideSpec::Parabolic(_) => return None,
             };
         }

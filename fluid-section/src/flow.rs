@@ -88,6 +88,10 @@ pub enum SideSpec {
     Outflow,
     /// Wraps to the opposite side, which must be periodic too.
     Periodic,
+    /// Gas held at this state beyond the side (`model = "euler"`): a
+    /// supersonic inflow, where every characteristic enters the box, so
+    /// the state outside decides the flux alone.
+    State(crate::gas::GasState),
 }
 
 impl SideSpec {

@@ -45,6 +45,19 @@ pub struct GasRegion {
     pub density_wave: Option<DensityWave>,
 }
 
+/// The gas a `state` side holds beyond the box: `x_low = { state =
+/// { density = 5.4, velocity = [2.2222, 0.0, 0.0], pressure = 10.3333 } }`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GasState {
+    /// Density ρ [kg/m³].
+    pub density: f64,
+    /// Velocity [m/s].
+    pub velocity: [f64; 3],
+    /// Pressure p [Pa].
+    pub pressure: f64,
+}
+
 /// ρ(x) = density + amplitude·sin(k·x), as in Shu & Osher's problem.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -150,15 +163,50 @@ pub fn check(
     let Some(sides) = sides else { return };
     for d in 0..3 {
         for s in 0..2 {
+            let key = SIDE_KEYS[d][s];
             if sides[d][s].velocity().is_some() {
-                let key = SIDE_KEYS[d][s];
                 c.within("sides", None, |c| {
                     c.problem(
                         &[key],
                         format!(
                             "{key}: a side with a given velocity belongs to model = \"incompressible\"; \
                              a side of model = \"euler\" is \"wall\" (reflecting), \"outflow\" \
-                             (transmissive) or \"periodic\""
+                             (transmissive), \"periodic\" or {{ state = {{ density, velocity, \
+                             pressure }} }} (a supersonic inflow)"
+                        ),
+                    )
+                });
+            }
+            if let SideSpec::State(state) = sides[d][s] {
+                c.within("sides", None, |c| c.within(key, None, |c| state.check(c)));
+            }
+        }
+    }
+}
+
+impl GasState {
+    fn check(&self, c: &mut Checker) {
+        c.within("state", None, |c| {
+            c.positive(&["density"], self.density, "kg/m³");
+            c.positive(&["pressure"], self.pressure, "Pa");
+            c.finite3(&["velocity"], self.velocity);
+        });
+    }
+}
+
+/// A `state` side is the euler model's: the other models are refused it.
+pub fn check_no_state_sides(c: &mut Checker, sides: [[SideSpec; 2]; 3], model: &str) {
+    for d in 0..3 {
+        for s in 0..2 {
+            if let SideSpec::State(_) = sides[d][s] {
+                let key = SIDE_KEYS[d][s];
+                c.within("sides", None, |c| {
+                    c.problem(
+                        &[key],
+                        format!(
+                            "{key}: a side held at a gas state belongs to model = \"euler\"; \
+                             model = \"{model}\" takes \"wall\", {{ velocity = [..] }}, \
+                             {{ parabolic = [..] }}, \"outflow\" or \"periodic\""
                         ),
                     )
                 });

@@ -230,6 +230,9 @@ impl FluidSection {
             self.check_fabric(c);
             c.positive(&["density"], self.density(), "kg/m³");
             c.positive(&["viscosity"], self.viscosity(), "Pa·s");
+            if let (false, Some(sides)) = (self.model == FluidModel::Euler, self.resolved_sides()) {
+                gas::check_no_state_sides(c, sides, self.model.name());
+            }
             if self.model == FluidModel::Euler {
                 gas::check(
                     c,

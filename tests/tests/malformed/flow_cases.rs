@@ -306,6 +306,30 @@ pub const CASES: &[Case] = &[
         line_of: Some("x_low = { parabolic"),
     },
     Case {
+        name: "gas-state-side-not-physical",
+        edit: |_| {
+            sod_with(
+                "x_low = \"outflow\"",
+                "x_low = { state = { density = -1.0, velocity = [2.0, 0.0, 0.0], pressure = 10.0 } }",
+            )
+        },
+        key: Some("fluid.sides.x_low.state.density"),
+        says: "density",
+        line_of: Some("x_low = { state"),
+    },
+    Case {
+        name: "flow-state-side",
+        edit: |_| {
+            cavity_with(
+                "# the lid; the other sides are walls",
+                "\nx_low = { state = { density = 1.0, velocity = [1.0, 0.0, 0.0], pressure = 1.0 } }",
+            )
+        },
+        key: Some("fluid.sides.x_low"),
+        says: "a side held at a gas state belongs to model = \"euler\"",
+        line_of: Some("x_low = { state"),
+    },
+    Case {
         name: "ranks-on-structure",
         edit: |t| {
             replace(
