@@ -22,10 +22,10 @@
 //! from 16.5 to 13, and the strength threshold from 13 to 9 (all
 //! neighbours made aggregates of 11 nodes and coarse spaces too poor). One
 //! sweep instead of two costs more iterations (11) but less time from 10⁴
-//! nodes up, and its iterations grow more slowly. Rotations beside the translations in the
-//! coarse spaces (6 × 6 coarse blocks; branch `multigrid-rigid-modes`)
-//! took a fifth of the iterations off but cost as much per cycle: 3 %
-//! slower at 50 176 nodes.
+//! nodes up, and its iterations grow more slowly. Rotations beside the
+//! translations in the coarse spaces (6 × 6 coarse blocks; branch
+//! `multigrid-rigid-modes`) took a fifth of the iterations off but cost as
+//! much in bigger coarse levels: 3 % slower at 50 176 nodes.
 //!
 //! As with the Cholesky solver, the hierarchy is kept from one Newton step
 //! and time step to the next and built anew only when the iterations it
