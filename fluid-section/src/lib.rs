@@ -230,9 +230,6 @@ impl FluidSection {
             self.check_fabric(c);
             c.positive(&["density"], self.density(), "kg/m³");
             c.positive(&["viscosity"], self.viscosity(), "Pa·s");
-            if let (false, Some(sides)) = (self.model == FluidModel::Euler, self.resolved_sides()) {
-                gas::check_no_state_sides(c, sides, self.model.name());
-            }
             if self.model == FluidModel::Euler {
                 gas::check(
                     c,
@@ -242,6 +239,8 @@ impl FluidSection {
                     self.gamma(),
                     self.cfl(),
                 );
+            } else if let Some(sides) = self.resolved_sides() {
+                gas::check_no_state_sides(c, sides, self.model.name());
             }
             if let Some(b) = &self.flow_box {
                 b.check(c);

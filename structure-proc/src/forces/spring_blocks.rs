@@ -129,8 +129,8 @@ impl SpringBlocks {
 }
 
 impl Block {
-    /// The springs `members` (ascending) of the block of nodes `first..last`.
-    /// (of `nodes` in all).
+    /// The springs `members` (ascending) of the block of nodes `own`, of
+    /// `nodes` in all.
     fn new(springs: &[Spring], members: &[usize], own: Range<usize>, nodes: usize) -> Block {
         let (first, last) = (own.start, own.end);
         let (strings, hooke): (Vec<usize>, Vec<usize>) =

@@ -71,12 +71,14 @@ impl Bsr {
     /// The inverses of the diagonal blocks; the identity where one is singular.
     pub fn diagonal_inverses(&self) -> Vec<B3> {
         (0..self.rows)
-            .map(|i| {
-                let d = self.row(i).find(|&(j, _)| j == i).map(|(_, b)| *b);
-                d.and_then(|d| d.try_inverse()).unwrap_or_else(B3::identity)
-            })
+            .map(|i| inverse_or_identity(self.row(i).find(|&(j, _)| j == i).map(|(_, b)| *b)))
             .collect()
     }
+}
+
+/// A diagonal block's inverse; the identity where it is missing or singular.
+fn inverse_or_identity(d: Option<B3>) -> B3 {
+    d.and_then(|d| d.try_inverse()).unwrap_or_else(B3::identity)
 }
 
 /// One row being summed: the blocks by column, and which columns it has.
@@ -142,10 +144,7 @@ impl Bsr32 {
     /// one is singular.
     pub fn diagonal_inverses(&self) -> Vec<B3> {
         (0..self.rows)
-            .map(|i| {
-                let d = self.row(i).find(|&(j, _)| j == i).map(|(_, b)| b);
-                d.and_then(|d| d.try_inverse()).unwrap_or_else(B3::identity)
-            })
+            .map(|i| inverse_or_identity(self.row(i).find(|&(j, _)| j == i).map(|(_, b)| b)))
             .collect()
     }
 
