@@ -21,6 +21,8 @@
 use crate::characteristic::{line_fluxes, REACH};
 use crate::comm::{swap, Comm, Single, Slab};
 use crate::gas::{Gas, Primitive, State};
+pub use crate::gas_bodies::BODY_HALO;
+use crate::gas_bodies::{add_loads, Cells, GasBody, Kinematics, Solids};
 use crate::padded::{Layout, GHOSTS};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -85,6 +87,7 @@ pub struct AdvanceReport {
 pub struct GasCheckpoint {
     u: Vec<State>,
     time: f64,
+    inflow: State,
 }
 
 /// The gas on its cells (this rank's slab of them), at `time`.
@@ -103,6 +106,13 @@ pub struct Compressible {
     start: Vec<State>,
     rhs: Vec<State>,
     pub time: f64,
+    /// What the fluxes have carried in through the box's sides on this
+    /// rank since the start: mass [kg], momentum [kg·m/s], energy [J].
+    inflow: State,
+    /// Rigid bodies in the gas (`gas_bodies.rs`), and the cells inside
+    /// them as last placed.
+    pub bodies: Vec<GasBody>,
+    solids: Solids,
 }
 
 impl Compressible {
@@ -143,7 +153,99 @@ impl Compressible {
             u,
             rhs: vec![[0.0; 5]; cells],
             time: 0.0,
+            inflow: [0.0; 5],
+            bodies: Vec::new(),
+            solids: Solids::default(),
         }
+    }
+
+    /// Takes `planes` ghost planes from each neighbouring rank along the
+    /// slab's axis instead of GHOSTS (on one rank nothing changes): the
+    /// reach of the bodies' image points ([`BODY_HALO`]). Each slab must be
+    /// at least that thick.
+    pub fn widen_halo(&mut self, planes: usize) {
+        let a = self.slab.axis;
+        if self.comm.ranks() == 1 || planes <= self.lay.g[a] {
+            return;
+        }
+        assert!(self.n[a] >= planes, "a slab thinner than its halo");
+        let mut g = self.lay.g;
+        g[a] = planes;
+        let lay = Layout::cells_with(self.n, g);
+        let mut u = vec![[0.0; 5]; lay.dims().iter().product()];
+        for_cells(self.n, |c, _| {
+            u[lay.at(c.map(|x| x as isize))] = self.u[self.at(c)]
+        });
+        self.lay = lay;
+        self.start.clone_from(&u);
+        self.u = u;
+    }
+
+    /// This rank's cells as the bodies see them.
+    pub fn grid(&self) -> Cells {
+        let thin = (0..3)
+            .find(|&d| self.setup.n[d] == 1)
+            .map(|d| (d, 0.5 * self.setup.h[d]));
+        // Ghost planes hold values as far as the halo from another rank,
+        // GHOSTS beyond a side of the box.
+        let reach = [0, 1, 2].map(|d| {
+            let shared = self.shared_sides(d);
+            let g = |s: Option<usize>| match s {
+                Some(_) => self.lay.g[d],
+                None => self.lay.g[d].min(GHOSTS),
+            } as isize;
+            [-g(shared[0]), self.n[d] as isize + g(shared[1])]
+        });
+        let classified = [0, 1, 2].map(|d| {
+            let shared = self.shared_sides(d);
+            let g = |s: Option<usize>| s.map_or(0, |_| self.lay.g[d] as isize);
+            [-g(shared[0]), self.n[d] as isize + g(shared[1])]
+        });
+        Cells {
+            reach,
+            classified,
+            lay: self.lay,
+            n: self.n,
+            whole: self.setup.n,
+            offset: self.slab.global([0; 3]),
+            h: self.setup.h,
+            thin,
+        }
+    }
+
+    /// Places the bodies at the present time and fills the cells inside
+    /// them: call it after changing [`Compressible::bodies`].
+    pub fn place_bodies(&mut self) {
+        self.solids = Solids::find(&self.bodies, &self.grid(), self.time);
+        self.fill_ghosts();
+        self.fill_bodies();
+    }
+
+    /// Sets each body's motion from now on (in the order of
+    /// [`Compressible::bodies`]); the next stage places them again.
+    pub fn move_bodies(&mut self, kinematics: &[Kinematics]) {
+        for (b, k) in self.bodies.iter_mut().zip(kinematics) {
+            b.kinematics = *k;
+        }
+        self.solids = Solids::default();
+    }
+
+    /// Whether each cell of this rank (x fastest) lies inside a body.
+    pub fn inside(&self) -> Vec<bool> {
+        let count = self.n.iter().product();
+        match self.solids.inside.len() == count {
+            true => self.solids.inside.clone(),
+            false => vec![false; count],
+        }
+    }
+
+    /// This rank's gas cells: its cells less those inside bodies.
+    fn own_gas(&self) -> impl Iterator<Item = &State> + '_ {
+        let inside = &self.solids.inside;
+        self.own()
+            .enumerate()
+            .filter(move |(i, _)| !inside.get(*i).copied().unwrap_or(false))
+            .map(|(_, s)| s)
     }
 
     /// The conserved state of every cell of this rank, x fastest.
@@ -185,18 +287,9 @@ impl Compressible {
                 ]
             })
             .collect();
-        let parts = self.comm.gather(&local)?;
-        let n = self.setup.n;
-        let mut all = vec![[0.0; 5]; n.iter().product()];
-        for (rank, part) in parts.iter().enumerate() {
-            let slab = Slab::of(n, parts.len(), rank);
-            for_cells(slab.cells(), |c, i| {
-                let [x, y, z] = slab.global(c);
-                all[x + n[0] * (y + n[1] * z)].copy_from_slice(&part[5 * i..5 * i + 5]);
-            });
-        }
+        let all = self.gathered(&local, 5)?;
         Some(
-            all.iter()
+            all.chunks_exact(5)
                 .map(|v| Primitive {
                     density: v[0],
                     velocity: [v[1], v[2], v[3]],
@@ -206,12 +299,36 @@ impl Compressible {
         )
     }
 
-    /// Σ U·V over the box's cells: mass [kg], momentum [kg·m/s] and energy
-    /// [J], on every rank.
+    /// 1 for each cell of the box inside a body, 0 for the gas, x fastest,
+    /// on rank 0 (None on the others). Every rank must call it.
+    pub fn gathered_inside(&self) -> Option<Vec<f64>> {
+        let local: Vec<f64> = self.inside().iter().map(|&i| i as u8 as f64).collect();
+        self.gathered(&local, 1)
+    }
+
+    /// `k` values per cell of this rank (x fastest), gathered for the whole
+    /// box on rank 0 (None on the others).
+    fn gathered(&self, local: &[f64], k: usize) -> Option<Vec<f64>> {
+        let parts = self.comm.gather(local)?;
+        let n = self.setup.n;
+        let mut all = vec![0.0; k * n.iter().product::<usize>()];
+        for (rank, part) in parts.iter().enumerate() {
+            let slab = Slab::of(n, parts.len(), rank);
+            for_cells(slab.cells(), |c, i| {
+                let [x, y, z] = slab.global(c);
+                let at = x + n[0] * (y + n[1] * z);
+                all[k * at..k * at + k].copy_from_slice(&part[k * i..k * i + k]);
+            });
+        }
+        Some(all)
+    }
+
+    /// Σ U·V over the box's gas cells (those outside bodies): mass [kg],
+    /// momentum [kg·m/s] and energy [J], on every rank.
     pub fn totals(&self) -> State {
         let volume: f64 = self.setup.h.iter().product();
         let mut sum = [0.0; 5];
-        for s in self.own() {
+        for s in self.own_gas() {
             for (t, v) in sum.iter_mut().zip(s) {
                 *t += v * volume;
             }
@@ -220,11 +337,21 @@ impl Compressible {
         sum
     }
 
-    /// The lowest density and pressure over the box, on every rank.
+    /// What the fluxes have carried in through the box's sides since the
+    /// start: mass [kg], momentum [kg·m/s] and energy [J], on every rank.
+    /// With [`Compressible::totals`] it closes the budget: without bodies
+    /// totals − inflow stays at its start to round-off.
+    pub fn inflow(&self) -> State {
+        let mut sum = self.inflow;
+        self.comm.sum(&mut sum);
+        sum
+    }
+
+    /// The lowest density and pressure over the box's gas cells, on every rank.
     pub fn lowest(&self) -> [f64; 2] {
         let gas = self.setup.gas;
         let mut low = [f64::INFINITY; 2];
-        for s in self.own() {
+        for s in self.own_gas() {
             low[0] = low[0].min(s[0]);
             low[1] = low[1].min(gas.pressure(s));
         }
@@ -233,7 +360,8 @@ impl Compressible {
 
     /// The longest stable step: CFL / max over the box's cells and the
     /// states its `state` sides hold of Σ_d (|u_d| + c)/h_d, on every rank
-    /// (the held gas enters the first cells at its own speed).
+    /// (the held gas enters the first cells at its own speed). Ghost cells
+    /// count, their velocity holding the wall's; deep solid cells do not.
     pub fn stable_dt(&self) -> f64 {
         let s = &self.setup;
         let active: Vec<usize> = (0..3).filter(|&d| s.n[d] > 1).collect();
@@ -248,9 +376,10 @@ impl Compressible {
             GasSide::State(w) => Some(s.gas.conserved(*w)),
             _ => None,
         });
-        let rate = self
-            .own()
-            .map(&rate_of)
+        let rate = for_cells_at(self.n, self.lay)
+            .enumerate()
+            .filter(|&(i, _)| !self.solids.frozen(i))
+            .map(|(_, p)| rate_of(&self.u[p]))
             .chain(held.map(|u| rate_of(&u)))
             .fold(0.0, f64::max);
         let dt = if rate > 0.0 {
@@ -284,11 +413,13 @@ impl Compressible {
     }
 
     /// This rank's state: its conserved cells (with their ghosts, which
-    /// every step fills again) and the time. Nothing else carries over
-    /// from step to step; each step finds its own Δt.
+    /// every step fills again), the time and what has come in through the
+    /// sides. Nothing else carries over from step to step: each step finds
+    /// its own Δt, and places the bodies where their motion puts them.
     pub fn save(&self, into: &mut GasCheckpoint) {
         into.u.clone_from(&self.u);
         into.time = self.time;
+        into.inflow = self.inflow;
     }
 
     /// Return to the state `from` holds, if it holds this rank's cells
@@ -299,18 +430,37 @@ impl Compressible {
         }
         self.u.clone_from(&from.u);
         self.time = from.time;
+        self.inflow = from.inflow;
+        // The bodies are placed again at the next stage.
+        self.solids = Solids::default();
         true
     }
 
     /// One TVD Runge–Kutta step of `dt` (Shu & Osher eq. 2.18).
     pub fn step(&mut self, dt: f64) -> Result<(), GasError> {
         self.start.clone_from(&self.u);
-        // (weight of Uⁿ, weight of the forward-Euler step) per stage.
-        for (a, b) in [(0.0, 1.0), (0.75, 0.25), (1.0 / 3.0, 2.0 / 3.0)] {
+        // Per stage: the weights of Uⁿ and of the forward-Euler step, the
+        // stage's time after tⁿ, and its weight in Uⁿ⁺¹ − Uⁿ
+        // (= Δt(L₀ + L₁ + 4L₂)/6).
+        let stages = [
+            (0.0, 1.0, 0.0, 1.0 / 6.0),
+            (0.75, 0.25, dt, 1.0 / 6.0),
+            (1.0 / 3.0, 2.0 / 3.0, 0.5 * dt, 2.0 / 3.0),
+        ];
+        for (a, b, after, share) in stages {
             self.fill_ghosts();
-            self.right_hand_side();
+            if !self.bodies.is_empty() {
+                self.stage_bodies(self.time + after, share * dt);
+            }
+            let entering = self.right_hand_side();
+            for (total, v) in self.inflow.iter_mut().zip(entering) {
+                *total += share * dt * v;
+            }
             let (lay, n) = (self.lay, self.n);
             for_cells(n, |c, i| {
+                if self.solids.frozen(i) {
+                    return;
+                }
                 let p = lay.at(c.map(|x| x as isize));
                 for v in 0..5 {
                     let euler = self.u[p][v] + dt * self.rhs[i][v];
@@ -326,13 +476,40 @@ impl Compressible {
         self.lay.at(c.map(|x| x as isize))
     }
 
+    /// The bodies at stage time `t`: placed again (unless all stand still
+    /// where they were placed), their ghosts filled, the box's ghosts
+    /// filled again from them, and their loads taken `weight` [s] of.
+    fn stage_bodies(&mut self, t: f64, weight: f64) {
+        let still = self.bodies.iter().all(|b| b.kinematics.at_rest());
+        let cells = self.grid();
+        if !(still && self.solids.inside.len() == self.n.iter().product()) {
+            self.solids = Solids::find(&self.bodies, &cells, t);
+        }
+        self.fill_bodies();
+        let gas = self.setup.gas;
+        add_loads(&mut self.bodies, &cells, &self.u, &gas, t, weight);
+    }
+
+    /// The solid cells from the gas around them, then the box's ghosts
+    /// again (a side or another rank may mirror or read a solid cell):
+    /// on every rank together, ghosts of its own or not, since the halo
+    /// exchange is collective.
+    fn fill_bodies(&mut self) {
+        self.solids.fill(&mut self.u, &self.setup.gas);
+        self.fill_ghosts();
+    }
+
     /// Every cell must keep a positive, finite density and pressure. The
     /// first bad cell of the box is reported, the same on every rank.
     fn check(&self) -> Result<(), GasError> {
         let gas = self.setup.gas;
         let n = self.setup.n;
         let mut bad = None;
-        for_cells(self.n, |c, _| {
+        let inside = self.inside();
+        for_cells(self.n, |c, i| {
+            if inside[i] {
+                return;
+            }
             let s = &self.u[self.at(c)];
             let p = gas.pressure(s);
             let ok = s[0] > 0.0 && p > 0.0 && s.iter().all(|v| v.is_finite());
@@ -429,12 +606,13 @@ impl Compressible {
     }
 
     /// The ghost layers along `a` from the neighbouring ranks: this rank's
-    /// last GHOSTS planes go up as the next rank's low ghosts, its first
-    /// ones down as the previous rank's high ghosts (wrapping round on a
+    /// last planes (as many as its ghost layers, GHOSTS or the wider halo
+    /// bodies need) go up as the next rank's low ghosts, its first ones
+    /// down as the previous rank's high ghosts (wrapping round on a
     /// periodic axis). Planes span the whole padded range of the other axes.
     fn exchange_halo(&mut self, a: usize, shared: [Option<usize>; 2]) {
         let m = self.lay.m[a] as isize;
-        let g = GHOSTS as isize;
+        let g = self.lay.g[a] as isize;
         let planes = |k0: isize| self.planes(a, k0..k0 + g);
         let (top, bottom) = (planes(m - g), planes(0));
         let mut from_below = vec![0.0; top.len()];
@@ -482,19 +660,23 @@ impl Compressible {
     }
 
     /// rhs = L(U) = −Σ_d (F_{i+½} − F_{i−½})/h_d, line by line along each
-    /// axis, the lines in parallel.
-    fn right_hand_side(&mut self) {
+    /// axis, the lines in parallel. Returns what the fluxes carry in
+    /// through the box's sides on this rank, per second.
+    fn right_hand_side(&mut self) -> State {
         self.rhs.iter_mut().for_each(|r| *r = [0.0; 5]);
         let (lay, setup) = (self.lay, self.setup);
         let n = self.n;
+        let mut entering = [0.0; 5];
         for d in (0..3).filter(|&d| n[d] > 1) {
+            let area: f64 = (0..3).filter(|&o| o != d).map(|o| setup.h[o]).product();
+            let sides = self.shared_sides(d).map(|s| s.is_none());
             let (b, e) = ((d + 1) % 3, (d + 2) % 3);
             let lines: Vec<[usize; 2]> = (0..n[e])
                 .flat_map(|ie| (0..n[b]).map(move |ib| [ib, ie]))
                 .collect();
             let u = &self.u;
             let inv_h = 1.0 / setup.h[d];
-            let changes: Vec<Vec<State>> = lines
+            let changes: Vec<(Vec<State>, [State; 2])> = lines
                 .par_iter()
                 .map_init(
                     || (Vec::new(), vec![[0.0; 5]; n[d] + 1]),
@@ -508,17 +690,24 @@ impl Compressible {
                             line.push(Gas::rotated(&u[lay.at(c)], d));
                         }
                         line_fluxes(&setup.gas, line, faces);
-                        faces
+                        let change = faces
                             .windows(2)
                             .map(|f| {
                                 let dif = [0, 1, 2, 3, 4].map(|v| (f[0][v] - f[1][v]) * inv_h);
                                 Gas::unrotated(&dif, d)
                             })
-                            .collect()
+                            .collect();
+                        let ends = [faces[0], faces[n[d]]].map(|f| Gas::unrotated(&f, d));
+                        (change, ends)
                     },
                 )
                 .collect();
-            for (&[ib, ie], change) in lines.iter().zip(changes) {
+            for (&[ib, ie], (change, ends)) in lines.iter().zip(changes) {
+                for v in 0..5 {
+                    let low = if sides[0] { ends[0][v] } else { 0.0 };
+                    let high = if sides[1] { ends[1][v] } else { 0.0 };
+                    entering[v] += (low - high) * area;
+                }
                 for (k, dv) in change.iter().enumerate() {
                     let mut c = [0usize; 3];
                     c[d] = k;
@@ -531,7 +720,18 @@ impl Compressible {
                 }
             }
         }
+        entering
     }
+}
+
+/// The padded index of every cell of `n` at `lay`, x fastest.
+fn for_cells_at(n: [usize; 3], lay: Layout) -> impl Iterator<Item = usize> {
+    (0..n[2]).flat_map(move |k| {
+        (0..n[1]).flat_map(move |j| {
+            let p = lay.at([0, j as isize, k as isize]);
+            p..p + n[0]
+        })
+    })
 }
 
 /// Calls `f(cell, index)` for every cell, x fastest.

@@ -44,7 +44,7 @@ pub fn run() -> Result<(), Error> {
             flow_run::lead(joining, &scenario, &section, Arc::new(Single)).map_err(|s| s.error)
         }
         FluidModel::Euler => {
-            gas_run::lead(joining, &section, Arc::new(Single)).map_err(|s| s.error)
+            gas_run::lead(joining, &scenario, Arc::new(Single)).map_err(|s| s.error)
         }
     }
 }

@@ -3,56 +3,142 @@
 //! rank 0's orders together: stepping (with the halo exchanges and the
 //! global Δt), the monitors (sums and minima over the box) and the output
 //! (gathered to rank 0, which writes it).
+//!
+//! Rigid bodies with a shape are walls of the gas (`gas_bodies.rs`): rank
+//! 0 reads their states from rigid-proc at each window's start and shares
+//! them; every rank moves them on through the window and adds the load on
+//! its part of their surfaces; the sum goes back to rigid-proc.
 
 use crate::comm::Comm;
 use crate::compressible::{AdvanceReport, Compressible, GasCheckpoint, GasError};
+use crate::driver::fields::{BODY_LOADS, BODY_STATES};
 use crate::driver::{declaration, Error};
 use crate::gas::Primitive;
+use crate::gas_bodies::Kinematics;
 use crate::rank_checkpoint::{self, Place};
 use crate::ranks::{Order, Stopped};
-use crate::setup::gas_on;
-use fluid_section::FluidSection;
+use crate::setup::gas_scene;
+use fluid_section::Scene;
 use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
+use rigid_proc::body::STATE_LEN;
+use rigid_proc::Body;
 use std::sync::Arc;
 
 /// What obeying an order gave; only rank 0's is used.
 enum Done {
     Monitors(Vec<Monitor>),
     /// The box's cells, on rank 0.
-    Output(Option<Vec<Primitive>>),
-    Advanced(Vec<Monitor>, u64),
+    Output(Option<(Vec<Primitive>, Vec<f64>)>),
+    /// Monitors, steps taken, and the mean load on each body in the gas
+    /// over the window (6 each: force [N], torque [N·m]), summed over ranks.
+    Advanced(Vec<Monitor>, u64, Vec<f64>),
     Checkpoint,
     Stop,
 }
 
-/// One rank's gas, the window's checkpoint (implicit coupling), and where
-/// run checkpoints go.
+/// One rank's gas, the window's checkpoint (implicit coupling), where run
+/// checkpoints go, and the scenario's rigid bodies.
 struct Gas {
     gas: Compressible,
     saved: GasCheckpoint,
     comm: Arc<dyn Comm>,
     place: Place,
+    /// Every `[[rigid.bodies]]` entry (rigid-proc sends all of their
+    /// states), and the index among them of each body in the gas.
+    rigid: Vec<Body>,
+    shaped: Vec<usize>,
+    /// The box's low corner in the world [m].
+    origin: [f64; 3],
+    /// The states rank 0 read for the next window (13 per body).
+    states: Vec<f64>,
 }
 
 impl Gas {
-    fn new(gas: Compressible, comm: Arc<dyn Comm>) -> Gas {
-        Gas {
+    /// The scene's gas on this rank, its bodies placed.
+    fn new(scene: &Scene, comm: Arc<dyn Comm>) -> Result<Gas, String> {
+        let (gas, shaped) = gas_scene(scene, comm.clone())?;
+        let specs = scene.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
+        let rigid = specs
+            .iter()
+            .map(Body::from_spec)
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Gas {
             gas,
             saved: GasCheckpoint::default(),
             comm,
             place: Place::default(),
+            rigid,
+            shaped,
+            origin: scene.fluid.flow_box.map_or([0.0; 3], |b| b.lower),
+            states: Vec::new(),
+        })
+    }
+
+    /// The bodies where the states rank 0 read put them (every rank calls
+    /// it together), moving on from the gas's present time.
+    fn move_bodies(&mut self) -> Result<(), String> {
+        let mut states = std::mem::take(&mut self.states);
+        let mut len = [states.len() as f64];
+        self.comm.broadcast(&mut len);
+        states.resize(len[0] as usize, 0.0);
+        self.comm.broadcast(&mut states);
+        if states.is_empty() {
+            return Ok(());
         }
+        if states.len() != STATE_LEN * self.rigid.len() {
+            return Err(format!(
+                "rigid-proc sent {} values for {} bodies",
+                states.len(),
+                self.rigid.len()
+            ));
+        }
+        for (b, s) in self.rigid.iter_mut().zip(states.chunks_exact(STATE_LEN)) {
+            b.read_state(s);
+        }
+        let t = self.gas.time;
+        let kinematics: Vec<Kinematics> = self
+            .shaped
+            .iter()
+            .map(|&i| Kinematics::of(&self.rigid[i], self.origin, t))
+            .collect();
+        if let Some(k) = kinematics.iter().position(|k| !k.is_finite()) {
+            let name = &self.rigid[self.shaped[k]].name;
+            return Err(format!("body `{name}` has a state that is not finite"));
+        }
+        self.gas.move_bodies(&kinematics);
+        Ok(())
+    }
+
+    /// The mean load on every body of the scenario since the last call,
+    /// summed over the ranks (every rank calls it together): 6 per body,
+    /// zero on a mass point.
+    fn loads(&mut self) -> Vec<f64> {
+        let mut out = vec![0.0; 6 * self.rigid.len()];
+        for (body, &i) in self.gas.bodies.iter_mut().zip(&self.shaped) {
+            let (f, t) = body.take_load();
+            out[6 * i..6 * i + 3].copy_from_slice(&f);
+            out[6 * i + 3..6 * i + 6].copy_from_slice(&t);
+        }
+        self.comm.sum(&mut out);
+        out
     }
 }
 
 /// Obeys `order` on this rank (every rank calls it with the same order);
 /// a failure fails on every rank together, with this message.
 fn obey(g: &mut Gas, order: Order) -> Result<Done, String> {
+    if let Order::Advance { .. } = order {
+        g.move_bodies()?;
+    }
     let gas = &mut g.gas;
     Ok(match order {
         Order::Monitors => Done::Monitors(monitors(gas, AdvanceReport::default())),
-        Order::Output { .. } => Done::Output(gas.gathered_primitives()),
+        Order::Output { .. } => {
+            let cells = gas.gathered_primitives();
+            let inside = gas.gathered_inside();
+            Done::Output(cells.zip(inside))
+        }
         Order::Advance { dt, window_end, .. } => {
             let report = gas
                 .advance(dt)
@@ -62,7 +148,7 @@ fn obey(g: &mut Gas, order: Order) -> Result<Done, String> {
             } else {
                 Vec::new()
             };
-            Done::Advanced(m, report.steps)
+            Done::Advanced(m, report.steps, g.loads())
         }
         Order::Checkpoint { restore: false } => {
             gas.save(&mut g.saved);
@@ -95,15 +181,35 @@ fn obey(g: &mut Gas, order: Order) -> Result<Done, String> {
 }
 
 /// The gas's monitors, in the order [`monitors`] reports them.
-const GAS_MONITORS: [&str; 5] = ["mass", "energy", "min_density", "min_pressure", "steps"];
+const GAS_MONITORS: [&str; 13] = [
+    "mass",
+    "momentum_x",
+    "momentum_y",
+    "momentum_z",
+    "energy",
+    "mass_in",
+    "momentum_in_x",
+    "momentum_in_y",
+    "momentum_in_z",
+    "energy_in",
+    "min_density",
+    "min_pressure",
+    "steps",
+];
 
-/// Mass and energy (conserved but for what crosses the sides), the lowest
-/// density and pressure (what fails first), and the steps of the last call.
-/// Sums and minima over every rank: every rank calls it together.
+/// Mass, momentum and energy of the gas cells, what has come in through
+/// the box's sides since the start (the gas's budget: without bodies each
+/// total less its inflow stays at its start), the lowest density and
+/// pressure (what fails first), and the steps of the last call. Sums and
+/// minima over every rank: every rank calls it together.
 fn monitors(gas: &Compressible, r: AdvanceReport) -> Vec<Monitor> {
     let totals = gas.totals();
+    let inflow = gas.inflow();
     let [density, pressure] = gas.lowest();
-    let values = [totals[0], totals[4], density, pressure, r.steps as f64];
+    let values = totals
+        .into_iter()
+        .chain(inflow)
+        .chain([density, pressure, r.steps as f64]);
     GAS_MONITORS
         .iter()
         .zip(values)
@@ -112,37 +218,58 @@ fn monitors(gas: &Compressible, r: AdvanceReport) -> Vec<Monitor> {
 }
 
 /// Rank 0 (or the only rank): as many stable steps per window as the
-/// fastest wave allows (`cfl`), the gas written as `fluid.pvd`. The gas
-/// exchanges no field yet.
-pub fn lead(joining: Joining, section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Stopped> {
+/// fastest wave allows (`cfl`), the gas written as `fluid.pvd`; the
+/// bodies' states read and their loads written every window.
+pub fn lead(joining: Joining, scene: &Scene, comm: Arc<dyn Comm>) -> Result<(), Stopped> {
     let c = comm.as_ref();
-    let gas = gas_on(section, comm.clone()).ok_or_else(|| {
-        Stopped::before_order(c, "[fluid] lacks the box or the regions of the euler model")
-    })?;
-    let names = GAS_MONITORS.iter().map(|n| n.to_string()).collect();
+    let mut g = Gas::new(scene, comm.clone()).map_err(|e| Stopped::before_order(c, e))?;
+    let mut names: Vec<String> = GAS_MONITORS.iter().map(|n| n.to_string()).collect();
+    names.extend(body_monitors(&g, None).into_iter().map(|m| m.name));
+    let declared = declaration(g.rigid.len(), true, names).restarts();
     let mut p = joining
-        .declare(declaration(0, false, names).restarts())
+        .declare(declared)
         .map_err(|e| Stopped::before_order(c, e))?;
-    let mut g = Gas::new(gas, comm.clone());
     g.place = Place::of(&p);
-    let steps = p.reporting(|p| run(p, g, section, comm))?;
+    let steps = p.reporting(|p| run(p, g, scene, comm))?;
     p.finish(steps)?;
     Ok(())
+}
+
+/// The force on each body in the gas, from the window's `loads` (NaN
+/// before the first window).
+fn body_monitors(g: &Gas, loads: Option<&[f64]>) -> Vec<Monitor> {
+    let mut out = Vec::new();
+    for &i in &g.shaped {
+        for (d, axis) in ["x", "y", "z"].iter().enumerate() {
+            let v = loads.map_or(f64::NAN, |l| l[6 * i + d]);
+            let name = format!("{}_fluid_force_{axis}", g.rigid[i].name);
+            out.push(Monitor::new(name, v));
+        }
+    }
+    out
 }
 
 /// The schedule's commands, turned into orders every rank obeys.
 fn run(
     p: &mut Participant,
     mut g: Gas,
-    section: &FluidSection,
+    scene: &Scene,
     comm: Arc<dyn Comm>,
 ) -> Result<u64, Stopped> {
-    let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
+    let origin = scene.fluid.flow_box.map_or([0.0; 3], |b| b.lower);
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
     loop {
         // A failure to hear the coupler stops the other ranks too.
-        let command = p.next_command();
+        let mut command = p.next_command();
+        if let Ok(Command::Advance(_)) = command {
+            if p.is_connected(BODY_STATES) {
+                match p.read_field(BODY_STATES) {
+                    Ok(states) => g.states = states.to_vec(),
+                    Err(e) => command = Err(e),
+                }
+            }
+        }
         let order = command.as_ref().map_or(Order::Stop, Order::of);
         order.share(comm.as_ref());
         match (command?, obey(&mut g, order)) {
@@ -154,7 +281,10 @@ fn run(
                 });
             }
             (_, Ok(Done::Stop)) => break,
-            (_, Ok(Done::Monitors(m))) => p.done(m)?,
+            (_, Ok(Done::Monitors(mut m))) => {
+                m.extend(body_monitors(&g, None));
+                p.done(m)?
+            }
             (Command::WriteCheckpoint { window }, Ok(Done::Checkpoint)) => {
                 rank_checkpoint::write_lead(p, window, &series, steps)?;
                 p.done(Vec::new())?
@@ -165,7 +295,7 @@ fn run(
             }
             (_, Ok(Done::Checkpoint)) => p.done(Vec::new())?,
             (Command::Output { index, time }, Ok(Done::Output(cells))) => {
-                let cells = cells.ok_or("rank 0 gathers the cells")?;
+                let (cells, inside) = cells.ok_or("rank 0 gathers the cells")?;
                 let density: Vec<f64> = cells.iter().map(|w| w.density).collect();
                 let velocity: Vec<f64> = cells.iter().flat_map(|w| w.velocity).collect();
                 let pressure: Vec<f64> = cells.iter().map(|w| w.pressure).collect();
@@ -177,17 +307,24 @@ fn run(
                         ("density", 1, &density),
                         ("velocity", 3, &velocity),
                         ("pressure", 1, &pressure),
+                        ("inside_body", 1, &inside),
                     ],
                 };
                 series.write_image(index, time, &image)?;
                 p.done(Vec::new())?
             }
-            (_, Ok(Done::Advanced(m, n))) => {
+            (Command::Advance(a), Ok(Done::Advanced(mut m, n, loads))) => {
                 steps += n;
+                if p.is_connected(BODY_LOADS) {
+                    p.write_field(BODY_LOADS, loads.len(), |out| out.copy_from_slice(&loads))?;
+                }
+                if a.window_end {
+                    m.extend(body_monitors(&g, Some(&loads)));
+                }
                 p.done(m)?
             }
-            (_, Ok(Done::Output(_))) => {
-                unreachable!("an output order comes from an output command")
+            (_, Ok(Done::Output(_) | Done::Advanced(..))) => {
+                unreachable!("an output or advance order comes from its command")
             }
         }
     }
@@ -197,9 +334,8 @@ fn run(
 /// A rank other than 0: obeys rank 0's orders until it stops, or until a
 /// step fails (rank 0 meets the same failure and reports it).
 #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-pub fn follow(section: &FluidSection, comm: Arc<dyn Comm>) -> Result<(), Error> {
-    let gas = gas_on(section, comm.clone()).ok_or("[fluid] lacks the box or the regions")?;
-    let mut g = Gas::new(gas, comm.clone());
+pub fn follow(scene: &Scene, comm: Arc<dyn Comm>) -> Result<(), Error> {
+    let mut g = Gas::new(scene, comm.clone())?;
     loop {
         let order = Order::Stop.share(comm.as_ref());
         match obey(&mut g, order) {

@@ -26,7 +26,9 @@
 //!   third-order TVD Runge–Kutta): the ideal gas and its characteristic
 //!   fields (`gas.rs`), the characteristic WENO5 flux along a line
 //!   (`characteristic.rs`), and the exact Riemann solution it is checked
-//!   against (`riemann.rs`).
+//!   against (`riemann.rs`). Rigid bodies in the gas are moving walls:
+//!   ghost cells filled from image points (`gas_bodies.rs`) across the
+//!   signed distance to their surfaces (`level_set.rs`).
 //! - The ranks a solver's box is split among (`comm.rs`; on MPI with the
 //!   `mpi` feature, `mpi_comm.rs`), and the incompressible flow's slab of
 //!   it on each (`part.rs`).
@@ -35,7 +37,7 @@
 //! through the participant library and runs a model's loop: the porous
 //! one there, the incompressible flow's in `flow_run.rs` (the bodies and
 //! the canopy it places each window: `flow_bodies.rs`, `flow_canopy.rs`,
-//! `clearance.rs`), the gas's in `gas_run.rs`, and the orders rank 0
+//! `clearance.rs`), the gas's (and its bodies') in `gas_run.rs`, and the orders rank 0
 //! shares with the other ranks in `ranks.rs`.
 
 pub mod advection;
@@ -54,11 +56,13 @@ pub mod flow_canopy;
 pub mod flow_run;
 pub mod frame;
 pub mod gas;
+pub mod gas_bodies;
 pub mod gas_run;
 pub mod grid;
 pub mod immersed;
 pub mod incompressible;
 pub mod laplacian;
+pub mod level_set;
 #[cfg(feature = "mpi")]
 pub mod mpi_comm;
 pub mod multigrid;

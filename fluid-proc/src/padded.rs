@@ -66,7 +66,11 @@ impl Layout {
     /// A layout of cell-centred values: n cells, ghosts on each axis more
     /// than one cell thick, every cell an unknown.
     pub fn cells(n: [usize; 3]) -> Layout {
-        let g = n.map(|n| if n > 1 { GHOSTS } else { 0 });
+        Layout::cells_with(n, n.map(|n| if n > 1 { GHOSTS } else { 0 }))
+    }
+
+    /// A layout of cell-centred values with `g` ghost layers per axis.
+    pub fn cells_with(n: [usize; 3], g: [usize; 3]) -> Layout {
         let dims = [0, 1, 2].map(|a| n[a] + 2 * g[a]);
         Layout {
             m: n,

@@ -168,7 +168,7 @@ pub fn ranks() -> Result<(), Error> {
             comm.broadcast_text(&mut path);
             comm.broadcast_text(&mut text);
             match section.model {
-                FluidModel::Euler => gas_run::lead(joining, &section, comm.clone()),
+                FluidModel::Euler => gas_run::lead(joining, &scenario, comm.clone()),
                 FluidModel::Incompressible => {
                     flow_run::lead(joining, &scenario, &section, comm.clone())
                 }
@@ -184,7 +184,7 @@ pub fn ranks() -> Result<(), Error> {
         (|| -> Result<(), Stopped> {
             let scene = Scene::load(std::path::Path::new(&path), &text)?;
             match scene.fluid.model {
-                FluidModel::Euler => gas_run::follow(&scene.fluid, comm.clone())?,
+                FluidModel::Euler => gas_run::follow(&scene, comm.clone())?,
                 FluidModel::Incompressible => flow_run::follow(&scene, comm.clone())?,
                 _ => {}
             }

@@ -2,14 +2,16 @@
 //! flow or the compressible gas, at their initial state.
 
 use crate::comm::{Comm, Single};
-use crate::compressible::{Compressible, GasSetup, GasSide};
+use crate::compressible::{Compressible, GasSetup, GasSide, BODY_HALO};
 use crate::gas::{Gas, Primitive};
+use crate::gas_bodies::GasBody;
 use crate::grid::Grid;
 use crate::incompressible::{FlowSetup, Incompressible};
 use crate::part::Part;
 use crate::side::{bcs, Side};
 use fluid_section::flow::SideSpec;
-use fluid_section::FluidSection;
+use fluid_section::{FluidSection, Scene};
+use rigid_proc::Body;
 use std::sync::Arc;
 
 /// The flow of `[fluid]` with model = "incompressible", at its initial
@@ -114,4 +116,46 @@ pub fn gas_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Compressibl
             pressure: r.pressure,
         }
     }))
+}
+
+/// The gas of the scene's `[fluid]` (model = "euler") on this rank, with
+/// the shaped bodies of its `[rigid]` section placed in it at their
+/// initial poses; and the index in `[[rigid.bodies]]` of each body in the
+/// gas (mass points have no surface and stay out of it).
+pub fn gas_scene(scene: &Scene, comm: Arc<dyn Comm>) -> Result<(Compressible, Vec<usize>), String> {
+    let section = &scene.fluid;
+    let mut gas =
+        gas_on(section, comm).ok_or("[fluid] lacks the box or the regions of the euler model")?;
+    let specs = scene.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
+    let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
+    let spacing = gas.grid().finest();
+    let mut shaped = Vec::new();
+    for (i, spec) in specs.iter().enumerate() {
+        let body = Body::from_spec(spec)?;
+        if let Some(b) = GasBody::of(&body, origin, gas.time, spacing) {
+            gas.bodies.push(b);
+            shaped.push(i);
+        }
+    }
+    let varies = gas.setup.n.iter().filter(|&&n| n > 1).count();
+    if varies < 2 && !gas.bodies.is_empty() {
+        return Err(
+            "a body with a shape needs a gas box more than one cell thick along \
+                    at least two axes (a 2-D or 3-D flow)"
+                .into(),
+        );
+    }
+    let cells = gas.grid();
+    if let Some(b) = gas.bodies.iter().find(|b| !b.is_seen(&cells, gas.time)) {
+        return Err(format!(
+            "body `{}` does not reach the mid-plane of the 2-D gas box, so the gas would \
+             not see it: place it across the box's thin axis",
+            b.name
+        ));
+    }
+    if !gas.bodies.is_empty() {
+        gas.widen_halo(BODY_HALO);
+    }
+    gas.place_bodies();
+    Ok((gas, shaped))
 }

@@ -69,6 +69,26 @@ impl Surface {
         thickness: f64,
     ) -> Vec<Marker> {
         let mut out = Vec::new();
+        for s in self.segments(pose, axis, level) {
+            let length = (s.ends[1] - s.ends[0]).norm();
+            let pieces = (length / (spacing * (1.0 + EDGE_SLACK))).ceil().max(1.0) as usize;
+            for k in 0..pieces {
+                let at = s.ends[0] + (s.ends[1] - s.ends[0]) * ((k as f64 + 0.5) / pieces as f64);
+                out.push(Marker {
+                    x: at.coords.into(),
+                    normal: s.normal.into(),
+                    area: length / pieces as f64 * thickness,
+                });
+            }
+        }
+        out
+    }
+
+    /// The outline of the placed surface's section by the plane x_axis =
+    /// level: one segment per triangle that crosses it, with the
+    /// triangle's outward normal in the plane.
+    pub fn segments(&self, pose: &Isometry3<f64>, axis: usize, level: f64) -> Vec<Segment> {
+        let mut out = Vec::new();
         for t in &self.triangles {
             let p = t.map(|i| pose * self.points[i as usize]);
             // A vertex on the plane counts as above it, so that every
@@ -88,22 +108,22 @@ impl Surface {
                 .collect();
             let mut normal = (p[1] - p[0]).cross(&(p[2] - p[0]));
             normal[axis] = 0.0;
-            let (Some(n), [e0, e1]) = (normal.try_normalize(1e-300), ends.as_slice()) else {
-                continue;
-            };
-            let length = (e1 - e0).norm();
-            let pieces = (length / (spacing * (1.0 + EDGE_SLACK))).ceil().max(1.0) as usize;
-            for k in 0..pieces {
-                let at = e0 + (e1 - e0) * ((k as f64 + 0.5) / pieces as f64);
-                out.push(Marker {
-                    x: at.coords.into(),
-                    normal: n.into(),
-                    area: length / pieces as f64 * thickness,
+            if let (Some(n), [e0, e1]) = (normal.try_normalize(1e-300), ends.as_slice()) {
+                out.push(Segment {
+                    ends: [*e0, *e1],
+                    normal: n,
                 });
             }
         }
         out
     }
+}
+
+/// A piece of a section's outline and its outward normal in the plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    pub ends: [Point3<f64>; 2],
+    pub normal: Vector3<f64>,
 }
 
 /// The volume the markers enclose [m³], by the divergence theorem about

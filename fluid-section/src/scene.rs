@@ -3,7 +3,7 @@
 //! checks that need the coupling part (ranks, the window's Courant number,
 //! which partners each model can take).
 
-use crate::flow::{HALO_CELLS, MAX_COURANT};
+use crate::flow::{BODY_HALO_CELLS, HALO_CELLS, MAX_COURANT};
 use crate::frame::FrameSpec;
 use crate::{FluidModel, FluidSection};
 use rigid_section::RigidSection;
@@ -23,7 +23,8 @@ pub struct Scene {
     pub scenario: Scenario,
     pub fluid: FluidSection,
     /// `[rigid]`, when participant `rigid` is listed: its shaped bodies
-    /// are immersed boundaries of the incompressible flow.
+    /// are immersed boundaries of the incompressible flow and walls of the
+    /// gas.
     pub rigid: Option<RigidSection>,
 }
 
@@ -71,21 +72,26 @@ fn check_partners(
 ) {
     let listed = |name| scenario.participants.lists(name);
     // The incompressible flow takes the canopy and rigid bodies (immersed
-    // boundaries); the gas takes neither yet.
-    if s.model == FluidModel::Euler && (listed("structure") || listed("rigid")) {
+    // boundaries); the gas takes rigid bodies (ghost cells), not the canopy yet.
+    if s.model == FluidModel::Euler && listed("structure") {
         c.problem(
             &["fluid", "model"],
-            "model = \"euler\" is not coupled to a structure or rigid bodies yet: use \
-             model = \"incompressible\" or \"porous-free-stream\" for such a scene"
+            "model = \"euler\" is not coupled to a structure yet: use model = \
+             \"incompressible\" or \"porous-free-stream\" for such a scene"
                 .into(),
         );
+    }
+    if s.model == FluidModel::Euler {
+        check_gas_bodies(c, s, rigid);
     }
     if s.model == FluidModel::Incompressible && s.porosity.is_some() && !listed("structure") {
         c.problem(&["fluid", "porosity"], POROSITY_WITHOUT_CANOPY.into());
     }
     let ranks = scenario.participants.get("fluid").map_or(1, |f| f.ranks());
     if ranks > 1 {
-        check_ranks(c, s, ranks);
+        let walls = s.model == FluidModel::Euler
+            && rigid.is_some_and(|r| r.bodies.iter().any(|b| b.shape.is_some()));
+        check_ranks(c, s, ranks, walls);
     }
     let frame = check_frame(c, scenario, s, rigid);
     let window = scenario.coupling.window;
@@ -148,10 +154,35 @@ fn followed(frame: &FrameSpec, rigid: Option<&RigidSection>) -> Option<Option<[f
     Some(Some(body.velocity))
 }
 
+/// A body with a shape stands in the gas as a wall, which a 1-D tube has
+/// no room for: the box must vary along two axes at least.
+fn check_gas_bodies(c: &mut Checker, s: &FluidSection, rigid: Option<&RigidSection>) {
+    let (Some(b), Some(rigid)) = (s.flow_box, rigid) else {
+        return;
+    };
+    if b.cells.iter().filter(|&&n| n > 1).count() >= 2 {
+        return;
+    }
+    if let Some(i) = rigid.bodies.iter().position(|b| b.shape.is_some()) {
+        c.within("rigid", None, |c| {
+            c.within("bodies", Some(i), |c| {
+                c.problem(
+                    &["shape"],
+                    "a body with a shape is a wall in the gas, and this box is one cell \
+                     thick along two axes (a 1-D tube): give it cells along two axes at \
+                     least, or leave the shape out (a mass point stays out of the gas)"
+                        .into(),
+                )
+            })
+        });
+    }
+}
+
 /// Whether the fluid can run on `ranks` ranks: a model split among ranks
 /// (euler and incompressible), and slabs at least as thick as the
-/// stencil's reach, so that each rank's halo comes from its two neighbours.
-fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32) {
+/// stencil's reach (the image points' with bodies in the gas, `walls`),
+/// so that each rank's halo comes from its two neighbours.
+fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32, walls: bool) {
     let key = ["participants", "fluid", "ranks"];
     if s.model == FluidModel::PorousFreeStream {
         c.problem(
@@ -180,12 +211,14 @@ fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32) {
             }
         }
     };
-    if u64::from(b.cells[axis]) < u64::from(HALO_CELLS) * u64::from(ranks) {
+    let least = if walls { BODY_HALO_CELLS } else { HALO_CELLS };
+    if u64::from(b.cells[axis]) < u64::from(least) * u64::from(ranks) {
+        let with = if walls { " (bodies in the gas)" } else { "" };
         c.problem(
             &key,
             format!(
-                "ranks = {ranks} leaves fewer than {} cells per rank along {} ({} cells): use fewer ranks",
-                HALO_CELLS,
+                "ranks = {ranks} leaves fewer than {least} cells per rank{with} along {} ({} \
+                 cells): use fewer ranks",
                 ["x", "y", "z"][axis],
                 b.cells[axis]
             ),

@@ -246,3 +246,51 @@ fn a_parachutist_in_the_flow_leaves_the_same_wake_on_1_2_and_4_ranks() {
     let checks = (FLOW.0, &monitors[..], FLOW.2);
     assert_same_on("mpi-wake", "wake", &[1, 2, 4], change, checks);
 }
+
+/// The gas's fields with bodies in it, its mass, and each body's load.
+fn with_bodies<'a>(loads: &'a [&'a str]) -> (&'a [&'a str], &'a [&'a str], f64) {
+    (GAS.0, loads, 1e-12)
+}
+
+#[test]
+fn the_piston_and_the_wedge_give_the_same_gas_on_1_and_2_ranks() {
+    // Both boxes are split along x at 0.5 m: the piston's face reaches the
+    // boundary at the end, the wedge lies across it. A ghost's image point
+    // may lie up to 7 cells away, in the other rank's slab: the halo is
+    // that wide with bodies in the gas.
+    let piston = |s: &mut canopy_tests::Scenario| s.run.output_interval = 0.2;
+    let loads = ["fluid.mass", "fluid.piston_fluid_force_x"];
+    assert_same_on("mpi-piston", "piston", &[1, 2], piston, with_bodies(&loads));
+    let wedge = |s: &mut canopy_tests::Scenario| {
+        s.run.end_time = 0.5;
+        s.run.output_interval = 0.25;
+    };
+    let loads = [
+        "fluid.mass",
+        "fluid.wedge_fluid_force_x",
+        "fluid.wedge_fluid_force_y",
+    ];
+    assert_same_on("mpi-wedge", "wedge", &[1, 2], wedge, with_bodies(&loads));
+}
+
+#[test]
+fn the_lifted_cylinder_moves_the_same_on_1_2_and_3_ranks() {
+    // The free cylinder crosses the slab boundary at x = 1/3 m on 3 ranks
+    // (by t = 0.14 s), and reaches the one at 0.5 m on 2; rigid-proc moves
+    // it by the load the ranks sum.
+    let change = |s: &mut canopy_tests::Scenario| s.run.output_interval = 0.085;
+    let loads = [
+        "fluid.mass",
+        "fluid.cylinder_fluid_force_x",
+        "fluid.cylinder_fluid_force_y",
+        "rigid.cylinder.x",
+        "rigid.cylinder.y",
+    ];
+    assert_same_on(
+        "mpi-liftoff",
+        "cylinder-liftoff",
+        &[1, 2, 3],
+        change,
+        with_bodies(&loads),
+    );
+}

@@ -281,17 +281,18 @@ pub const CASES: &[Case] = &[
         line_of: Some("model = \"euler\""),
     },
     Case {
-        name: "gas-with-bodies",
+        name: "gas-with-a-body-in-a-tube",
         edit: |_| {
             let t = sod_with(
                 "program = \"fluid-proc\"",
                 "program = \"fluid-proc\"\n\n[participants.rigid]\nprogram = \"rigid-proc\"",
             );
-            t + "\n[[rigid.bodies]]\nname = \"ball\"\nmass = 1.0\nposition = [0.5, 0.0, 0.0]\n"
+            t + "\n[[rigid.bodies]]\nname = \"ball\"\ndensity = 1.0\nposition = [0.5, 0.0, 0.0]\n\
+                 shape = { type = \"sphere\", radius = 0.1 }\n"
         },
-        key: Some("fluid.model"),
-        says: "is not coupled to a structure or rigid bodies yet",
-        line_of: Some("model = \"euler\""),
+        key: Some("rigid.bodies[0].shape"),
+        says: "is one cell thick along two axes",
+        line_of: Some("shape = {"),
     },
     Case {
         name: "gas-parabolic-side",
