@@ -19,9 +19,11 @@
 //! reads, so the fields do not depend on the number of ranks.
 
 use crate::characteristic::{line_fluxes, REACH};
-use crate::comm::{swap, Comm, Single, Slab};
+use crate::comm::{Comm, Single, Slab};
 use crate::gas::{Gas, Primitive, State};
 pub use crate::gas_bodies::BODY_HALO;
+
+mod halo;
 use crate::gas_bodies::{add_loads, Cells, GasBody, Kinematics, Solids};
 use crate::padded::{Layout, GHOSTS};
 use rayon::prelude::*;
@@ -159,47 +161,23 @@ impl Compressible {
         }
     }
 
-    /// Takes `planes` ghost planes from each neighbouring rank along the
-    /// slab's axis instead of GHOSTS (on one rank nothing changes): the
-    /// reach of the bodies' image points ([`BODY_HALO`]). Each slab must be
-    /// at least that thick.
-    pub fn widen_halo(&mut self, planes: usize) {
-        let a = self.slab.axis;
-        if self.comm.ranks() == 1 || planes <= self.lay.g[a] {
-            return;
-        }
-        assert!(self.n[a] >= planes, "a slab thinner than its halo");
-        let mut g = self.lay.g;
-        g[a] = planes;
-        let lay = Layout::cells_with(self.n, g);
-        let mut u = vec![[0.0; 5]; lay.dims().iter().product()];
-        for_cells(self.n, |c, _| {
-            u[lay.at(c.map(|x| x as isize))] = self.u[self.at(c)]
-        });
-        self.lay = lay;
-        self.start.clone_from(&u);
-        self.u = u;
-    }
-
     /// This rank's cells as the bodies see them.
     pub fn grid(&self) -> Cells {
         let thin = (0..3)
             .find(|&d| self.setup.n[d] == 1)
             .map(|d| (d, 0.5 * self.setup.h[d]));
-        // Ghost planes hold values as far as the halo from another rank,
-        // GHOSTS beyond a side of the box.
+        // The planes other ranks fill along each axis (none at a side of
+        // the box), told gas from solid as their owners tell them; ghost
+        // planes hold values that far, and GHOSTS deep beyond a side.
+        let halo = |d: usize| {
+            let g = self.lay.g[d] as isize;
+            self.shared_sides(d).map(|s| s.map_or(0, |_| g))
+        };
+        let classified = [0, 1, 2].map(|d| [-halo(d)[0], self.n[d] as isize + halo(d)[1]]);
         let reach = [0, 1, 2].map(|d| {
-            let shared = self.shared_sides(d);
-            let g = |s: Option<usize>| match s {
-                Some(_) => self.lay.g[d],
-                None => self.lay.g[d].min(GHOSTS),
-            } as isize;
-            [-g(shared[0]), self.n[d] as isize + g(shared[1])]
-        });
-        let classified = [0, 1, 2].map(|d| {
-            let shared = self.shared_sides(d);
-            let g = |s: Option<usize>| s.map_or(0, |_| self.lay.g[d] as isize);
-            [-g(shared[0]), self.n[d] as isize + g(shared[1])]
+            let side = self.lay.g[d].min(GHOSTS) as isize;
+            let [low, high] = classified[d];
+            [low.min(-side), high.max(self.n[d] as isize + side)]
         });
         Cells {
             reach,
@@ -222,12 +200,12 @@ impl Compressible {
     }
 
     /// Sets each body's motion from now on (in the order of
-    /// [`Compressible::bodies`]); the next stage places them again.
+    /// [`Compressible::bodies`]), the bodies placed where it starts.
     pub fn move_bodies(&mut self, kinematics: &[Kinematics]) {
         for (b, k) in self.bodies.iter_mut().zip(kinematics) {
             b.kinematics = *k;
         }
-        self.solids = Solids::default();
+        self.solids = Solids::find(&self.bodies, &self.grid(), self.time);
     }
 
     /// Whether each cell of this rank (x fastest) lies inside a body.
@@ -338,9 +316,10 @@ impl Compressible {
     }
 
     /// What the fluxes have carried in through the box's sides since the
-    /// start: mass [kg], momentum [kg·m/s] and energy [J], on every rank.
-    /// With [`Compressible::totals`] it closes the budget: without bodies
-    /// totals − inflow stays at its start to round-off.
+    /// start, through the faces of gas cells: mass [kg], momentum [kg·m/s]
+    /// and energy [J], on every rank. With [`Compressible::totals`] it
+    /// closes the budget: without bodies totals − inflow stays at its start
+    /// to round-off.
     pub fn inflow(&self) -> State {
         let mut sum = self.inflow;
         self.comm.sum(&mut sum);
@@ -431,8 +410,7 @@ impl Compressible {
         self.u.clone_from(&from.u);
         self.time = from.time;
         self.inflow = from.inflow;
-        // The bodies are placed again at the next stage.
-        self.solids = Solids::default();
+        self.solids = Solids::find(&self.bodies, &self.grid(), self.time);
         true
     }
 
@@ -537,128 +515,6 @@ impl Compressible {
         })
     }
 
-    /// The ghosts of every axis more than one cell thick, axis by axis over
-    /// the whole range of the others (edges and corners too): from the
-    /// sides' conditions, or from the neighbouring rank at a side shared
-    /// with it.
-    fn fill_ghosts(&mut self) {
-        let lay = self.lay;
-        let g = GHOSTS as isize;
-        for a in 0..3 {
-            if lay.g[a] == 0 {
-                continue;
-            }
-            let (s, m) = (lay.stride[a] as isize, lay.m[a] as isize);
-            let sides = self.setup.sides[a];
-            let held = sides.map(|side| match side {
-                GasSide::State(w) => self.setup.gas.conserved(w),
-                _ => State::default(),
-            });
-            let shared = self.shared_sides(a);
-            let u = &mut self.u;
-            lay.for_each_line(a, |base| {
-                let ix = |k: isize| (base as isize + k * s) as usize;
-                if shared.iter().all(Option::is_some) {
-                    return;
-                }
-                if sides == [GasSide::Periodic; 2] {
-                    for k in 1..=g {
-                        u[ix(-k)] = u[ix(m - k)];
-                        u[ix(m - 1 + k)] = u[ix(k - 1)];
-                    }
-                    return;
-                }
-                for (side, up, held) in [(sides[0], false, held[0]), (sides[1], true, held[1])] {
-                    if shared[up as usize].is_some() {
-                        continue;
-                    }
-                    let (edge, dir) = if up { (m - 1, 1) } else { (0, -1) };
-                    for k in 1..=g {
-                        let ghost = match side {
-                            GasSide::Wall => {
-                                let mut v = u[ix(edge - dir * (k - 1))];
-                                v[1 + a] = -v[1 + a];
-                                v
-                            }
-                            GasSide::Outflow => u[ix(edge)],
-                            // A periodic side facing another kind is
-                            // refused by the scenario check.
-                            GasSide::Periodic => u[ix(edge)],
-                            GasSide::State(_) => held,
-                        };
-                        u[ix(edge + dir * k)] = ghost;
-                    }
-                }
-            });
-            if shared.iter().any(Option::is_some) {
-                self.exchange_halo(a, shared);
-            }
-        }
-    }
-
-    /// The ranks this rank's low and high sides along `a` face, if any.
-    fn shared_sides(&self, a: usize) -> [Option<usize>; 2] {
-        if a != self.slab.axis {
-            return [None; 2];
-        }
-        let periodic = self.setup.sides[a] == [GasSide::Periodic; 2];
-        self.slab.neighbours(self.comm.as_ref(), periodic)
-    }
-
-    /// The ghost layers along `a` from the neighbouring ranks: this rank's
-    /// last planes (as many as its ghost layers, GHOSTS or the wider halo
-    /// bodies need) go up as the next rank's low ghosts, its first ones
-    /// down as the previous rank's high ghosts (wrapping round on a
-    /// periodic axis). Planes span the whole padded range of the other axes.
-    fn exchange_halo(&mut self, a: usize, shared: [Option<usize>; 2]) {
-        let m = self.lay.m[a] as isize;
-        let g = self.lay.g[a] as isize;
-        let planes = |k0: isize| self.planes(a, k0..k0 + g);
-        let (top, bottom) = (planes(m - g), planes(0));
-        let mut from_below = vec![0.0; top.len()];
-        let mut from_above = vec![0.0; bottom.len()];
-        let comm = self.comm.as_ref();
-        swap(
-            comm,
-            shared,
-            &bottom,
-            &mut from_above,
-            &top,
-            &mut from_below,
-        );
-        if shared[0].is_some() {
-            self.set_planes(a, -g..0, &from_below);
-        }
-        if shared[1].is_some() {
-            self.set_planes(a, m..m + g, &from_above);
-        }
-    }
-
-    /// The states of the planes `k` along `a`, flattened.
-    fn planes(&self, a: usize, k: std::ops::Range<isize>) -> Vec<f64> {
-        let mut out = Vec::new();
-        self.for_plane_cells(a, k, |p| out.extend_from_slice(&self.u[p]));
-        out
-    }
-
-    fn set_planes(&mut self, a: usize, k: std::ops::Range<isize>, values: &[f64]) {
-        let mut at = Vec::new();
-        self.for_plane_cells(a, k, |p| at.push(p));
-        for (p, v) in at.into_iter().zip(values.chunks_exact(5)) {
-            self.u[p].copy_from_slice(v);
-        }
-    }
-
-    /// Calls `f` with the index of every cell of planes `k` along `a`, over
-    /// the whole padded range of the other axes, in one fixed order.
-    fn for_plane_cells(&self, a: usize, k: std::ops::Range<isize>, mut f: impl FnMut(usize)) {
-        let lay = self.lay;
-        let s = lay.stride[a] as isize;
-        for kk in k {
-            lay.for_each_line(a, |base| f((base as isize + kk * s) as usize));
-        }
-    }
-
     /// rhs = L(U) = −Σ_d (F_{i+½} − F_{i−½})/h_d, line by line along each
     /// axis, the lines in parallel. Returns what the fluxes carry in
     /// through the box's sides on this rank, per second.
@@ -703,9 +559,17 @@ impl Compressible {
                 )
                 .collect();
             for (&[ib, ie], (change, ends)) in lines.iter().zip(changes) {
+                // A side's face counts where gas lies behind it: a body
+                // reaching out of the box holds solid cells there.
+                let gas_at = |k: usize| {
+                    let mut c = [0usize; 3];
+                    (c[d], c[b], c[e]) = (k, ib, ie);
+                    !self.solids.is_inside(c[0] + n[0] * (c[1] + n[1] * c[2]))
+                };
+                let open = [sides[0] && gas_at(0), sides[1] && gas_at(n[d] - 1)];
                 for v in 0..5 {
-                    let low = if sides[0] { ends[0][v] } else { 0.0 };
-                    let high = if sides[1] { ends[1][v] } else { 0.0 };
+                    let low = if open[0] { ends[0][v] } else { 0.0 };
+                    let high = if open[1] { ends[1][v] } else { 0.0 };
                     entering[v] += (low - high) * area;
                 }
                 for (k, dv) in change.iter().enumerate() {

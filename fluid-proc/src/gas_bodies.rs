@@ -50,7 +50,7 @@ const IMAGE_CELLS: f64 = 1.5;
 /// Ghost planes a rank takes from each neighbour when bodies stand in the
 /// gas: a ghost lies at most 3 cells inside the wall (it is within the
 /// WENO5 reach of a gas cell), its image point as far again outside (at
-/// least [`IMAGE_CELLS`]), and the image's stencil one cell further: 7
+/// least 1.5 cells), and the image's stencil one cell further: 7
 /// cells from the ghost on a grid of equal spacings (a stencil corner
 /// beyond, on cells much longer across the slab's axis than along it, is
 /// left out of the interpolation).
@@ -350,8 +350,6 @@ pub struct Solids {
     ghosts: Vec<Ghost>,
     /// Per cell of this rank: whether it is solid and no gas cell reads it.
     pub deep: Vec<bool>,
-    /// The time the bodies were placed at [s].
-    pub time: f64,
 }
 
 /// What a padded cell is, as [`Solids::find`] classifies it.
@@ -425,8 +423,12 @@ impl Solids {
             inside,
             ghosts,
             deep,
-            time: t,
         }
+    }
+
+    /// Whether cell `i` of this rank (x fastest) is inside a body.
+    pub fn is_inside(&self, i: usize) -> bool {
+        self.inside.get(i).copied().unwrap_or(false)
     }
 
     /// Whether cell `i` of this rank (x fastest) is frozen: solid, and

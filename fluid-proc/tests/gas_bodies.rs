@@ -73,7 +73,14 @@ fn oblique_shock(m: f64, theta: f64, gamma: f64) -> f64 {
 /// Mach 2.5 past a half-angle of 15°. The shock's angle, fitted through
 /// where the pressure crosses halfway from p₁ to p₂ on columns across it,
 /// within 1° of β; the pressure between the wedge and the shock within 2 %
-/// of p₂.
+/// of p₂. Measured: 36.961° and 2.4671 (36.948° and 2.4675 on 5 mm cells).
+/// The gas's budget, what it holds less what came in through the sides
+/// plus the impulse it gave the wedge, is the ghost cells' error at a
+/// static wall: measured, mass 0.17 % of what streamed in and momentum
+/// 2.5 % of the wedge's impulse (test: 1 % and 5 %). On finer cells it
+/// moves erratically with the staircase the wall cuts, not steadily
+/// down: the steady leak of mass was 2·10⁻⁵ to 3·10⁻⁴ kg/s (0.1–1.2 % of
+/// the inflow) on 120 to 300 cells along x.
 #[test]
 fn a_wedge_stands_the_oblique_shock_of_theta_beta_mach() {
     let scenario = shipped("wedge");
@@ -83,7 +90,34 @@ fn a_wedge_stands_the_oblique_shock_of_theta_beta_mach() {
     let mn2 = (m * beta.sin()).powi(2);
     let p2 = p1 * (1.0 + 2.0 * gamma / (gamma + 1.0) * (mn2 - 1.0));
     assert!((beta.to_degrees() - 36.94).abs() < 0.01 && (p2 - 2.468).abs() < 1e-3);
-    let gas = run_to_end(&scenario);
+    let mut gas = start(&scenario);
+    let before: Vec<f64> = (0..3).map(|v| gas.totals()[v]).collect();
+    let t = scenario.run.end_time;
+    gas.advance(t).unwrap();
+    // The budget: what the gas holds less what came in through the sides
+    // and plus the impulse it gave the wedge (the mean load times t).
+    let (load, _) = gas.bodies[0].take_load();
+    let (now, came) = (gas.totals(), gas.inflow());
+    let mass = now[0];
+    let drift = [0, 1, 2].map(|v| {
+        let given = if v == 0 { 0.0 } else { load[v - 1] * t };
+        now[v] - came[v] + given - before[v]
+    });
+    // Mass against what streamed in (ρ₁u₁ over the inflow side for t),
+    // momentum against the impulse the wedge took.
+    let [_, height, depth] = scenario.fluid.flow_box.unwrap().upper;
+    let streamed = 1.4 * 2.5 * height * depth * t;
+    let impulse = (load[0].hypot(load[1])) * t;
+    eprintln!(
+        "budget: mass {:.2e} of {streamed:.3e} kg streamed in ({mass:.3e} held), momentum \
+         {:.2e} {:.2e} of the impulse {impulse:.3e}",
+        drift[0], drift[1], drift[2]
+    );
+    assert!(drift[0].abs() < 0.01 * streamed, "mass budget {}", drift[0]);
+    assert!(
+        drift[1].hypot(drift[2]) < 0.05 * impulse,
+        "momentum budget {drift:?}"
+    );
     let [nx, ny, _] = gas.setup.n;
     let h = gas.setup.h[0];
     let cells = gas.primitives();

@@ -30,7 +30,7 @@ fn momentum_drift(m: &Monitors, axis: &str) -> Vec<f64> {
 /// that came in (9.18·10⁻³), and 13 %, 8 % and 4.5 % of the cylinder's
 /// (8.8·10⁻⁴): order 0.8 in h, the ghost cells' error at a moving wall
 /// (the cells the cylinder covers lose their gas, those it uncovers
-/// start from a ghost's state). Along y: 3.0·10⁻⁵, 1.8·10⁻⁵, 9.6·10⁻⁶.
+/// start from a ghost's state). Along y: 4.3·10⁻⁵, 1.6·10⁻⁵, 7.2·10⁻⁶.
 #[test]
 fn a_shock_lifts_the_cylinder_conserving_momentum_to_first_order_in_h() {
     let dir = scratch("gas-liftoff");
