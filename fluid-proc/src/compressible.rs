@@ -12,19 +12,24 @@
 //! The step is chosen from the fastest wave, Δt = CFL / max Σ_d (|u_d| + c)/h_d.
 //!
 //! Cells live with three ghost layers on every axis more than one cell
-//! thick (`padded.rs`'s [`Layout`]); an axis one cell thick carries no
-//! flux, which makes a 1-D tube or a 2-D flow. On several ranks each holds
-//! a slab of the box (`comm.rs`), and the ghosts at a side it shares with
-//! another rank are that rank's cells: the same values one rank alone
-//! reads, so the fields do not depend on the number of ranks.
+//! thick (`padded.rs`'s [`Layout`]; more along the slab's axis when
+//! bodies stand in the gas, `compressible/halo.rs`); an axis one cell
+//! thick carries no flux, which makes a 1-D tube or a 2-D flow. On several
+//! ranks each holds a slab of the box (`comm.rs`), and the ghosts at a side
+//! it shares with another rank are that rank's cells: the same values one
+//! rank alone reads, so the fields do not depend on the number of ranks.
+//! Rigid bodies are walls of the gas (`gas_bodies.rs`,
+//! `compressible/walls.rs`).
 
 use crate::characteristic::{line_fluxes, REACH};
 use crate::comm::{Comm, Single, Slab};
 use crate::gas::{Gas, Primitive, State};
-pub use crate::gas_bodies::BODY_HALO;
 
 mod halo;
-use crate::gas_bodies::{add_loads, Cells, GasBody, Kinematics, Solids};
+mod walls;
+#[cfg(doc)]
+use crate::gas_bodies::Kinematics;
+use crate::gas_bodies::{GasBody, Solids};
 use crate::padded::{Layout, GHOSTS};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -90,6 +95,8 @@ pub struct GasCheckpoint {
     u: Vec<State>,
     time: f64,
     inflow: State,
+    /// Each body's motion ([`Kinematics::to_values`]).
+    bodies: Vec<[f64; 17]>,
 }
 
 /// The gas on its cells (this rank's slab of them), at `time`.
@@ -158,62 +165,6 @@ impl Compressible {
             inflow: [0.0; 5],
             bodies: Vec::new(),
             solids: Solids::default(),
-        }
-    }
-
-    /// This rank's cells as the bodies see them.
-    pub fn grid(&self) -> Cells {
-        let thin = (0..3)
-            .find(|&d| self.setup.n[d] == 1)
-            .map(|d| (d, 0.5 * self.setup.h[d]));
-        // The planes other ranks fill along each axis (none at a side of
-        // the box), told gas from solid as their owners tell them; ghost
-        // planes hold values that far, and GHOSTS deep beyond a side.
-        let halo = |d: usize| {
-            let g = self.lay.g[d] as isize;
-            self.shared_sides(d).map(|s| s.map_or(0, |_| g))
-        };
-        let classified = [0, 1, 2].map(|d| [-halo(d)[0], self.n[d] as isize + halo(d)[1]]);
-        let reach = [0, 1, 2].map(|d| {
-            let side = self.lay.g[d].min(GHOSTS) as isize;
-            let [low, high] = classified[d];
-            [low.min(-side), high.max(self.n[d] as isize + side)]
-        });
-        Cells {
-            reach,
-            classified,
-            lay: self.lay,
-            n: self.n,
-            whole: self.setup.n,
-            offset: self.slab.global([0; 3]),
-            h: self.setup.h,
-            thin,
-        }
-    }
-
-    /// Places the bodies at the present time and fills the cells inside
-    /// them: call it after changing [`Compressible::bodies`].
-    pub fn place_bodies(&mut self) {
-        self.solids = Solids::find(&self.bodies, &self.grid(), self.time);
-        self.fill_ghosts();
-        self.fill_bodies();
-    }
-
-    /// Sets each body's motion from now on (in the order of
-    /// [`Compressible::bodies`]), the bodies placed where it starts.
-    pub fn move_bodies(&mut self, kinematics: &[Kinematics]) {
-        for (b, k) in self.bodies.iter_mut().zip(kinematics) {
-            b.kinematics = *k;
-        }
-        self.solids = Solids::find(&self.bodies, &self.grid(), self.time);
-    }
-
-    /// Whether each cell of this rank (x fastest) lies inside a body.
-    pub fn inside(&self) -> Vec<bool> {
-        let count = self.n.iter().product();
-        match self.solids.inside.len() == count {
-            true => self.solids.inside.clone(),
-            false => vec![false; count],
         }
     }
 
@@ -399,6 +350,7 @@ impl Compressible {
         into.u.clone_from(&self.u);
         into.time = self.time;
         into.inflow = self.inflow;
+        into.bodies = self.body_motions();
     }
 
     /// Return to the state `from` holds, if it holds this rank's cells
@@ -410,7 +362,7 @@ impl Compressible {
         self.u.clone_from(&from.u);
         self.time = from.time;
         self.inflow = from.inflow;
-        self.solids = Solids::find(&self.bodies, &self.grid(), self.time);
+        self.restore_bodies(&from.bodies);
         true
     }
 
@@ -436,7 +388,10 @@ impl Compressible {
             }
             let (lay, n) = (self.lay, self.n);
             for_cells(n, |c, i| {
-                if self.solids.frozen(i) {
+                // A solid cell is not stepped: a ghost takes its image's
+                // state again at the next stage, a deeper one keeps its
+                // own, and a cell the body leaves starts from that state.
+                if self.solids.is_inside(i) {
                     return;
                 }
                 let p = lay.at(c.map(|x| x as isize));
@@ -447,34 +402,12 @@ impl Compressible {
             });
         }
         self.time += dt;
+        self.settle_bodies();
         self.check()
     }
 
     fn at(&self, c: [usize; 3]) -> usize {
         self.lay.at(c.map(|x| x as isize))
-    }
-
-    /// The bodies at stage time `t`: placed again (unless all stand still
-    /// where they were placed), their ghosts filled, the box's ghosts
-    /// filled again from them, and their loads taken `weight` [s] of.
-    fn stage_bodies(&mut self, t: f64, weight: f64) {
-        let still = self.bodies.iter().all(|b| b.kinematics.at_rest());
-        let cells = self.grid();
-        if !(still && self.solids.inside.len() == self.n.iter().product()) {
-            self.solids = Solids::find(&self.bodies, &cells, t);
-        }
-        self.fill_bodies();
-        let gas = self.setup.gas;
-        add_loads(&mut self.bodies, &cells, &self.u, &gas, t, weight);
-    }
-
-    /// The solid cells from the gas around them, then the box's ghosts
-    /// again (a side or another rank may mirror or read a solid cell):
-    /// on every rank together, ghosts of its own or not, since the halo
-    /// exchange is collective.
-    fn fill_bodies(&mut self) {
-        self.solids.fill(&mut self.u, &self.setup.gas);
-        self.fill_ghosts();
     }
 
     /// Every cell must keep a positive, finite density and pressure. The

@@ -8,8 +8,8 @@
 //! within the WENO5 reach (three cells along an axis) of a gas cell is a
 //! ghost: its state mirrors the gas at its image point, the point at
 //! distance d = max(|φ|, 1.5 h) outside the wall along the normal,
-//! interpolated (multi-linearly, over the gas cells of its stencil only,
-//! so the values stay a convex mix): the same density and pressure (a
+//! interpolated (multi-linearly, over the corners of its stencil that are
+//! not solid, so the values stay a convex mix): the same density and pressure (a
 //! slip wall with no normal pressure gradient), the same tangential
 //! velocity, and the normal velocity relative to the wall reversed. At
 //! the face between a gas cell and a ghost the WENO5 flux then meets a
@@ -20,10 +20,11 @@
 //! piston: the gas lagged behind an impulsively started one and the
 //! shock ran 2 % slow, on any grid.) The fluxes are the ordinary WENO5
 //! fluxes, so the scheme, its order away from the body and its Δt are
-//! those of the gas alone. Deeper solid cells are frozen: no gas cell
-//! reads them, and they keep the state they had (their last as a ghost,
-//! or the initial gas), the same on any number of ranks. A cell the body
-//! leaves was a ghost the stage before and keeps that state as its first.
+//! those of the gas alone. Solid cells are not stepped: a ghost takes
+//! its image's state again at every stage, and a deeper solid cell, which
+//! no gas cell reads, keeps the state it had (its last as a ghost, or the
+//! initial gas), the same on any number of ranks. A cell the body leaves
+//! was a ghost the stage before and starts from that state.
 //!
 //! The price: the wall is not a face of the cells, so the gas's mass,
 //! momentum and energy are conserved only to the method's error at the
@@ -46,15 +47,6 @@ use rigid_proc::Body;
 /// stencil then lies in the gas beside a wall along the grid, and mostly
 /// so beside an inclined one.
 const IMAGE_CELLS: f64 = 1.5;
-
-/// Ghost planes a rank takes from each neighbour when bodies stand in the
-/// gas: a ghost lies at most 3 cells inside the wall (it is within the
-/// WENO5 reach of a gas cell), its image point as far again outside (at
-/// least 1.5 cells), and the image's stencil one cell further: 7
-/// cells from the ghost on a grid of equal spacings (a stencil corner
-/// beyond, on cells much longer across the slab's axis than along it, is
-/// left out of the interpolation).
-pub const BODY_HALO: usize = fluid_section::flow::BODY_HALO_CELLS as usize;
 
 /// Where a body is at `time` and how it moves on from there: at constant
 /// velocity and spin over a window (rigid-proc sends them each window; a
@@ -84,6 +76,36 @@ impl Kinematics {
             velocity: body.state.v,
             spin: body.world_angular_velocity(),
             time: t,
+        }
+    }
+
+    /// The 17 values of a checkpoint: the pose's translation and
+    /// quaternion (i, j, k, w), the centre, velocity, spin and time.
+    pub fn to_values(&self) -> [f64; 17] {
+        let t = self.pose.translation.vector;
+        let q = self.pose.rotation.coords;
+        let mut out = [0.0; 17];
+        out[..3].copy_from_slice(t.as_slice());
+        out[3..7].copy_from_slice(q.as_slice());
+        out[7..10].copy_from_slice(self.centre.as_slice());
+        out[10..13].copy_from_slice(self.velocity.as_slice());
+        out[13..16].copy_from_slice(self.spin.as_slice());
+        out[16] = self.time;
+        out
+    }
+
+    /// The motion [`Kinematics::to_values`] wrote.
+    pub fn from_values(v: &[f64; 17]) -> Kinematics {
+        let q = nalgebra::Quaternion::new(v[6], v[3], v[4], v[5]);
+        Kinematics {
+            pose: Isometry3::from_parts(
+                Translation3::new(v[0], v[1], v[2]),
+                UnitQuaternion::from_quaternion(q),
+            ),
+            centre: Vector3::new(v[7], v[8], v[9]),
+            velocity: Vector3::new(v[10], v[11], v[12]),
+            spin: Vector3::new(v[13], v[14], v[15]),
+            time: v[16],
         }
     }
 
@@ -185,7 +207,12 @@ impl GasBody {
     /// The closed tessellation of the surface at time `t` (a 2-D box's
     /// section, its pieces one box thick) and the centre then.
     fn markers(&self, cells: &Cells, t: f64) -> (Vec<Marker>, Vector3<f64>) {
-        let (pose, centre) = self.kinematics.at(t);
+        let (pose, mut centre) = self.kinematics.at(t);
+        if let Some((axis, level)) = cells.thin {
+            // The section's torque about the centre's point in its plane: a
+            // centre off the mid-plane would add a spurious arm.
+            centre[axis] = level;
+        }
         let spacing = cells.finest();
         let markers = match cells.thin {
             Some((axis, level)) => {
@@ -350,6 +377,8 @@ pub struct Solids {
     ghosts: Vec<Ghost>,
     /// Per cell of this rank: whether it is solid and no gas cell reads it.
     pub deep: Vec<bool>,
+    /// The time the bodies were placed at [s]; None before they are.
+    pub placed_at: Option<f64>,
 }
 
 /// What a padded cell is, as [`Solids::find`] classifies it.
@@ -412,9 +441,10 @@ impl Solids {
             let point = Vector3::from(closest.point);
             let d = closest.phi.abs().max(least);
             let image = cells.clamped(point + normal * d);
+            let at = lay.at(c.map(|x| x as isize));
             ghosts.push(Ghost {
-                at: lay.at(c.map(|x| x as isize)),
-                image: gas_stencil(cells, &kind, image),
+                at,
+                image: gas_stencil(cells, &kind, image, at),
                 normal,
                 wall: bodies[b].kinematics.velocity_at(&centre, &point),
             });
@@ -423,6 +453,7 @@ impl Solids {
             inside,
             ghosts,
             deep,
+            placed_at: Some(t),
         }
     }
 
@@ -474,15 +505,24 @@ fn reads_gas(kind: &[Kind], cells: &Cells, c: [usize; 3]) -> bool {
 
 /// `x`'s stencil over cells that are not solid (gas, or the ghosts of a
 /// side of the box), renormalised; if every corner is solid (a body
-/// thinner than the stencil), over all of them.
-fn gas_stencil(cells: &Cells, kind: &[Kind], x: [f64; 3]) -> Stencil {
+/// thinner than the stencil), over all of them; if none holds a value (on
+/// cells far longer across the slab's axis than along it, beyond the
+/// halo), the ghost `at` itself, which then keeps its state.
+fn gas_stencil(cells: &Cells, kind: &[Kind], x: [f64; 3], at: usize) -> Stencil {
     let all = cells.stencil(x);
+    if all.iter().all(Option::is_none) {
+        let mut own = [None; 8];
+        own[0] = Some((at, 1.0));
+        return own;
+    }
     let mut gas = all;
     for slot in gas.iter_mut() {
         if slot.is_some_and(|(at, _)| kind[at] == Kind::Solid) {
             *slot = None;
         }
     }
+    // Gas corners whose weights sum to almost nothing would amplify
+    // round-off: below 10⁻⁶ the solid corners count too.
     let total: f64 = gas.iter().flatten().map(|s| s.1).sum();
     let (mut out, total) = match total > 1e-6 {
         true => (gas, total),
@@ -551,5 +591,11 @@ mod tests {
         );
         let v = k.velocity_at(&c, &p.coords);
         assert!((v - Vector3::new(3.0 + 0.5 * std::f64::consts::PI, 0.0, 0.0)).norm() < 1e-14);
+        // A checkpoint's 17 values give the same motion back, bit for bit.
+        let turned = Kinematics {
+            pose: pose * UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.2, 0.1)),
+            ..k
+        };
+        assert_eq!(Kinematics::from_values(&turned.to_values()), turned);
     }
 }

@@ -57,22 +57,26 @@ struct Gas {
 impl Gas {
     /// The scene's gas on this rank, its bodies placed.
     fn new(scene: &Scene, comm: Arc<dyn Comm>) -> Result<Gas, String> {
-        let (gas, shaped) = gas_scene(scene, comm.clone())?;
-        let specs = scene.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
-        let rigid = specs
-            .iter()
-            .map(Body::from_spec)
-            .collect::<Result<Vec<_>, _>>()?;
+        let s = gas_scene(scene, comm.clone())?;
         Ok(Gas {
-            gas,
+            gas: s.gas,
             saved: GasCheckpoint::default(),
             comm,
             place: Place::default(),
-            rigid,
-            shaped,
-            origin: scene.fluid.flow_box.map_or([0.0; 3], |b| b.lower),
+            rigid: s.rigid,
+            shaped: s.shaped,
+            origin: s.origin,
             states: Vec::new(),
         })
+    }
+
+    /// On rank 0, before an advance: the states rigid-proc sent, for
+    /// [`Gas::move_bodies`] to share.
+    fn read_states(&mut self, p: &mut Participant) -> Result<(), participant::ExchangeError> {
+        if p.is_connected(BODY_STATES) {
+            self.states = p.read_field(BODY_STATES)?.to_vec();
+        }
+        Ok(())
     }
 
     /// The bodies where the states rank 0 read put them (every rank calls
@@ -230,7 +234,7 @@ pub fn lead(joining: Joining, scene: &Scene, comm: Arc<dyn Comm>) -> Result<(), 
         .declare(declared)
         .map_err(|e| Stopped::before_order(c, e))?;
     g.place = Place::of(&p);
-    let steps = p.reporting(|p| run(p, g, scene, comm))?;
+    let steps = p.reporting(|p| run(p, g, comm))?;
     p.finish(steps)?;
     Ok(())
 }
@@ -250,24 +254,16 @@ fn body_monitors(g: &Gas, loads: Option<&[f64]>) -> Vec<Monitor> {
 }
 
 /// The schedule's commands, turned into orders every rank obeys.
-fn run(
-    p: &mut Participant,
-    mut g: Gas,
-    scene: &Scene,
-    comm: Arc<dyn Comm>,
-) -> Result<u64, Stopped> {
-    let origin = scene.fluid.flow_box.map_or([0.0; 3], |b| b.lower);
+fn run(p: &mut Participant, mut g: Gas, comm: Arc<dyn Comm>) -> Result<u64, Stopped> {
+    let origin = g.origin;
     let mut series = Series::new(p.run_dir(), "fluid");
     let mut steps = 0u64;
     loop {
         // A failure to hear the coupler stops the other ranks too.
         let mut command = p.next_command();
         if let Ok(Command::Advance(_)) = command {
-            if p.is_connected(BODY_STATES) {
-                match p.read_field(BODY_STATES) {
-                    Ok(states) => g.states = states.to_vec(),
-                    Err(e) => command = Err(e),
-                }
+            if let Err(e) = g.read_states(p) {
+                command = Err(e);
             }
         }
         let order = command.as_ref().map_or(Order::Stop, Order::of);

@@ -1,15 +1,15 @@
 //! The flow a scenario's `[fluid]` section describes: the incompressible
 //! flow or the compressible gas, at their initial state.
 
-use crate::comm::{Comm, Single};
-use crate::compressible::{Compressible, GasSetup, GasSide, BODY_HALO};
+use crate::comm::{Comm, Single, Slab};
+use crate::compressible::{Compressible, GasSetup, GasSide};
 use crate::gas::{Gas, Primitive};
 use crate::gas_bodies::GasBody;
 use crate::grid::Grid;
 use crate::incompressible::{FlowSetup, Incompressible};
 use crate::part::Part;
 use crate::side::{bcs, Side};
-use fluid_section::flow::SideSpec;
+use fluid_section::flow::{body_halo_cells, SideSpec};
 use fluid_section::{FluidSection, Scene};
 use rigid_proc::Body;
 use std::sync::Arc;
@@ -118,25 +118,59 @@ pub fn gas_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Compressibl
     }))
 }
 
-/// The gas of the scene's `[fluid]` (model = "euler") on this rank, with
-/// the shaped bodies of its `[rigid]` section placed in it at their
-/// initial poses; and the index in `[[rigid.bodies]]` of each body in the
-/// gas (mass points have no surface and stay out of it).
-pub fn gas_scene(scene: &Scene, comm: Arc<dyn Comm>) -> Result<(Compressible, Vec<usize>), String> {
+/// The gas of a scene on this rank, and the bodies of its `[rigid]`
+/// section.
+pub struct GasScene {
+    /// The gas of `[fluid]` (model = "euler"), the shaped bodies placed
+    /// in it at their initial poses.
+    pub gas: Compressible,
+    /// Every `[[rigid.bodies]]` entry, as rigid-proc holds it.
+    pub rigid: Vec<Body>,
+    /// The index in `rigid` of each body in the gas (mass points have no
+    /// surface and stay out of it), in the order of the gas's bodies.
+    pub shaped: Vec<usize>,
+    /// The box's low corner in the world [m].
+    pub origin: [f64; 3],
+}
+
+/// The scene's gas on this rank with its bodies in it.
+pub fn gas_scene(scene: &Scene, comm: Arc<dyn Comm>) -> Result<GasScene, String> {
     let section = &scene.fluid;
     let mut gas =
         gas_on(section, comm).ok_or("[fluid] lacks the box or the regions of the euler model")?;
     let specs = scene.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
+    let rigid = specs
+        .iter()
+        .map(Body::from_spec)
+        .collect::<Result<Vec<_>, _>>()?;
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
     let spacing = gas.grid().finest();
     let mut shaped = Vec::new();
-    for (i, spec) in specs.iter().enumerate() {
-        let body = Body::from_spec(spec)?;
-        if let Some(b) = GasBody::of(&body, origin, gas.time, spacing) {
+    for (i, body) in rigid.iter().enumerate() {
+        if let Some(b) = GasBody::of(body, origin, gas.time, spacing) {
             gas.bodies.push(b);
             shaped.push(i);
         }
     }
+    check_seen(&gas)?;
+    if !gas.bodies.is_empty() {
+        let (n, h) = (gas.setup.n, gas.setup.h);
+        let planes = body_halo_cells(h, n.map(|n| n > 1), Slab::axis(n));
+        gas.widen_halo(planes as usize);
+    }
+    gas.place_bodies();
+    Ok(GasScene {
+        gas,
+        rigid,
+        shaped,
+        origin,
+    })
+}
+
+/// Whether the gas can see each of its bodies: a 2-D or 3-D box (the
+/// scenario check refuses a 1-D one), and a body across a 2-D box's
+/// mid-plane.
+fn check_seen(gas: &Compressible) -> Result<(), String> {
     let varies = gas.setup.n.iter().filter(|&&n| n > 1).count();
     if varies < 2 && !gas.bodies.is_empty() {
         return Err(
@@ -146,16 +180,12 @@ pub fn gas_scene(scene: &Scene, comm: Arc<dyn Comm>) -> Result<(Compressible, Ve
         );
     }
     let cells = gas.grid();
-    if let Some(b) = gas.bodies.iter().find(|b| !b.is_seen(&cells, gas.time)) {
-        return Err(format!(
+    match gas.bodies.iter().find(|b| !b.is_seen(&cells, gas.time)) {
+        Some(b) => Err(format!(
             "body `{}` does not reach the mid-plane of the 2-D gas box, so the gas would \
              not see it: place it across the box's thin axis",
             b.name
-        ));
+        )),
+        None => Ok(()),
     }
-    if !gas.bodies.is_empty() {
-        gas.widen_halo(BODY_HALO);
-    }
-    gas.place_bodies();
-    Ok((gas, shaped))
 }

@@ -21,7 +21,7 @@ fn a_piston_drives_the_exact_shock_within_1_percent() {
     let gas = run_to_end(&scenario);
     let n = gas.setup.n[0];
     let h = gas.setup.h[0];
-    // The middle row of the channel.
+    // Row 1 of the channel's 4 (the gas is the same across it).
     let row: Vec<_> = gas.primitives()[n..2 * n].to_vec();
     let x = |i: usize| (i as f64 + 0.5) * h;
     let front = front(&row, x, 0.5 * (rho2 + rho1));

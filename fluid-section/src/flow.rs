@@ -24,11 +24,25 @@ pub const MIN_CELLS: u32 = 4;
 pub const HALO_CELLS: u32 = 3;
 
 /// Fewest cells a rank's slab of the gas may have when bodies stand in
-/// it: the reach of a ghost cell's image point (fluid-proc's
-/// `gas_bodies.rs`): a ghost lies at most 3 cells inside the wall (within
-/// WENO5's reach of a gas cell), its image point as far again outside (at
-/// least 1.5 cells), and the image's stencil one cell further.
+/// it, on cells of equal spacings: the reach of a ghost cell's image point
+/// (fluid-proc's `gas_bodies.rs`): a ghost lies at most 3 cells inside the
+/// wall (within WENO5's reach of a gas cell), its image point as far again
+/// outside (at least 1.5 cells), and the image's stencil one cell further.
 pub const BODY_HALO_CELLS: u32 = 7;
+
+/// [`BODY_HALO_CELLS`] for cells of spacings `h` [m], split along `axis`:
+/// the ghost's depth and the image's distance count in the longest
+/// spacing h_max of the axes that vary (`active`), so they reach
+/// 6·h_max/h_axis cells along the slab's axis, and the stencil one more.
+pub fn body_halo_cells(h: [f64; 3], active: [bool; 3], axis: usize) -> u32 {
+    let longest = (0..3)
+        .filter(|&d| active[d])
+        .map(|d| h[d])
+        .fold(0.0, f64::max);
+    // Equal spacings give exactly 6: the slack keeps round-off from adding a plane.
+    let reach = (6.0 * longest / h[axis] - 1e-9).ceil() as u32;
+    (reach + 1).max(BODY_HALO_CELLS)
+}
 
 /// `[fluid.box]`: a uniform grid of cells over an axis-aligned box.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

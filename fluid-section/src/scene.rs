@@ -3,7 +3,7 @@
 //! checks that need the coupling part (ranks, the window's Courant number,
 //! which partners each model can take).
 
-use crate::flow::{BODY_HALO_CELLS, HALO_CELLS, MAX_COURANT};
+use crate::flow::{body_halo_cells, SideSpec, HALO_CELLS, MAX_COURANT, SIDE_KEYS};
 use crate::frame::FrameSpec;
 use crate::{FluidModel, FluidSection};
 use rigid_section::RigidSection;
@@ -155,15 +155,17 @@ fn followed(frame: &FrameSpec, rigid: Option<&RigidSection>) -> Option<Option<[f
 }
 
 /// A body with a shape stands in the gas as a wall, which a 1-D tube has
-/// no room for: the box must vary along two axes at least.
+/// no room for: the box must vary along two axes at least. Its ghost
+/// cells do not wrap round a periodic side.
 fn check_gas_bodies(c: &mut Checker, s: &FluidSection, rigid: Option<&RigidSection>) {
-    let (Some(b), Some(rigid)) = (s.flow_box, rigid) else {
+    let (Some(b), Some(rigid), Some(sides)) = (s.flow_box, rigid, s.resolved_sides()) else {
         return;
     };
-    if b.cells.iter().filter(|&&n| n > 1).count() >= 2 {
+    let Some(i) = rigid.bodies.iter().position(|b| b.shape.is_some()) else {
         return;
-    }
-    if let Some(i) = rigid.bodies.iter().position(|b| b.shape.is_some()) {
+    };
+    let name = &rigid.bodies[i].name;
+    if b.cells.iter().filter(|&&n| n > 1).count() < 2 {
         c.within("rigid", None, |c| {
             c.within("bodies", Some(i), |c| {
                 c.problem(
@@ -175,6 +177,19 @@ fn check_gas_bodies(c: &mut Checker, s: &FluidSection, rigid: Option<&RigidSecti
                 )
             })
         });
+        return;
+    }
+    let periodic = (0..3)
+        .filter(|&d| b.cells[d] > 1)
+        .find(|&d| sides[d][0] == SideSpec::Periodic);
+    if let Some(d) = periodic {
+        c.problem(
+            &["fluid", "sides", SIDE_KEYS[d][0]],
+            format!(
+                "body `{name}` stands in the gas as a wall, whose ghost cells do not wrap \
+                 round a periodic side yet: give the box walls, outflows or states here"
+            ),
+        );
     }
 }
 
@@ -211,7 +226,11 @@ fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32, walls: bool) {
             }
         }
     };
-    let least = if walls { BODY_HALO_CELLS } else { HALO_CELLS };
+    let active = b.cells.map(|n| n > 1);
+    let least = match walls {
+        true => body_halo_cells(b.spacing(), active, axis),
+        false => HALO_CELLS,
+    };
     if u64::from(b.cells[axis]) < u64::from(least) * u64::from(ranks) {
         let with = if walls { " (bodies in the gas)" } else { "" };
         c.problem(

@@ -1,7 +1,7 @@
 //! The gas's ghost layers (part of `compressible.rs`): beyond a side of
 //! the box from the side's condition, and at a side another rank's slab
-//! shares from that rank, three planes deep, or [`BODY_HALO`](crate::gas_bodies::BODY_HALO) along the
-//! slab's axis when bodies stand in the gas.
+//! shares from that rank, three planes deep, or as deep as the bodies'
+//! image points reach along the slab's axis when bodies stand in the gas.
 
 use super::{for_cells, Compressible, GasSide};
 use crate::comm::swap;
@@ -11,8 +11,9 @@ use crate::padded::{Layout, GHOSTS};
 impl Compressible {
     /// Takes `planes` ghost planes from each neighbouring rank along the
     /// slab's axis instead of GHOSTS (on one rank nothing changes): the
-    /// reach of the bodies' image points ([`BODY_HALO`](crate::gas_bodies::BODY_HALO)). Each slab must be
-    /// at least that thick.
+    /// reach of the bodies' image points
+    /// (`fluid_section::flow::body_halo_cells`). Each slab must be at
+    /// least that thick.
     pub fn widen_halo(&mut self, planes: usize) {
         let a = self.slab.axis;
         if self.comm.ranks() == 1 || planes <= self.lay.g[a] {

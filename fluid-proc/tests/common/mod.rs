@@ -24,7 +24,7 @@ pub fn shipped(name: &str) -> Scenario {
 pub fn start(scenario: &Scenario) -> Compressible {
     gas_scene(scenario, Arc::new(Single))
         .expect("an euler scene")
-        .0
+        .gas
 }
 
 /// The scene's gas run for `duration` from its initial state (its bodies

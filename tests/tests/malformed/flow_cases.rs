@@ -295,6 +295,16 @@ pub const CASES: &[Case] = &[
         line_of: Some("shape = {"),
     },
     Case {
+        name: "gas-body-with-periodic-sides",
+        edit: |_| {
+            let t = shipped_with("piston", "x_low = \"outflow\"", "x_low = \"periodic\"");
+            replace(&t, "x_high = \"outflow\"", "x_high = \"periodic\"")
+        },
+        key: Some("fluid.sides.x_low"),
+        says: "do not wrap round a periodic side",
+        line_of: Some("x_low = \"periodic\""),
+    },
+    Case {
         name: "gas-parabolic-side",
         edit: |_| {
             sod_with(
