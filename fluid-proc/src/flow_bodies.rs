@@ -9,7 +9,7 @@ use crate::pressure_force::pressure_load;
 use crate::surface::Surface;
 use fluid_section::Scene;
 use participant::Monitor;
-use rigid_proc::body::STATE_LEN;
+use rigid_proc::body::read_states;
 use rigid_proc::Body;
 
 pub struct FlowBodies {
@@ -64,19 +64,10 @@ impl FlowBodies {
         Some(body.state.v.into())
     }
 
-    /// Takes the states rigid-proc sent ([`STATE_LEN`] per body) and puts
+    /// Takes the states rigid-proc sent (13 per body, [`read_states`]) and puts
     /// the bodies there.
     pub fn read(&mut self, states: &[f64], flow: &mut Incompressible) -> Result<(), String> {
-        if states.len() != STATE_LEN * self.bodies.len() {
-            return Err(format!(
-                "rigid-proc sent {} values for {} bodies",
-                states.len(),
-                self.bodies.len()
-            ));
-        }
-        for (b, s) in self.bodies.iter_mut().zip(states.chunks_exact(STATE_LEN)) {
-            b.read_state(s);
-        }
+        read_states(&mut self.bodies, states)?;
         self.place(flow)
     }
 

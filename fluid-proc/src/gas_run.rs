@@ -21,7 +21,7 @@ use crate::setup::gas_scene;
 use fluid_section::Scene;
 use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
-use rigid_proc::body::STATE_LEN;
+use rigid_proc::body::read_states;
 use rigid_proc::Body;
 use std::sync::Arc;
 
@@ -90,16 +90,7 @@ impl Gas {
         if states.is_empty() {
             return Ok(());
         }
-        if states.len() != STATE_LEN * self.rigid.len() {
-            return Err(format!(
-                "rigid-proc sent {} values for {} bodies",
-                states.len(),
-                self.rigid.len()
-            ));
-        }
-        for (b, s) in self.rigid.iter_mut().zip(states.chunks_exact(STATE_LEN)) {
-            b.read_state(s);
-        }
+        read_states(&mut self.rigid, &states)?;
         let t = self.gas.time;
         let kinematics: Vec<Kinematics> = self
             .shaped

@@ -28,7 +28,8 @@
 //!   (`characteristic.rs`), and the exact Riemann solution it is checked
 //!   against (`riemann.rs`). Rigid bodies in the gas are moving walls:
 //!   ghost cells filled from image points (`gas_bodies.rs`) across the
-//!   signed distance to their surfaces (`level_set.rs`).
+//!   signed distance to their surfaces (`level_set.rs`), moving as
+//!   `body_motion.rs` carries them through a window.
 //! - The ranks a solver's box is split among (`comm.rs`; on MPI with the
 //!   `mpi` feature, `mpi_comm.rs`), and the incompressible flow's slab of
 //!   it on each (`part.rs`).
@@ -41,6 +42,7 @@
 //! shares with the other ranks in `ranks.rs`.
 
 pub mod advection;
+pub mod body_motion;
 pub mod canopy;
 pub mod characteristic;
 pub mod checkpoint;

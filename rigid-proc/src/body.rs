@@ -215,6 +215,23 @@ impl Body {
     }
 }
 
+/// Takes the states rigid-proc sent ([`STATE_LEN`] per body, as
+/// [`Body::write_state`] writes them) into `bodies`; an error if their
+/// number does not match.
+pub fn read_states(bodies: &mut [Body], states: &[f64]) -> Result<(), String> {
+    if states.len() != STATE_LEN * bodies.len() {
+        return Err(format!(
+            "rigid-proc sent {} values for {} bodies",
+            states.len(),
+            bodies.len()
+        ));
+    }
+    for (b, s) in bodies.iter_mut().zip(states.chunks_exact(STATE_LEN)) {
+        b.read_state(s);
+    }
+    Ok(())
+}
+
 /// Each of `bodies` moving at `time` [s] as its scene's motion (`motions`,
 /// in order) says, or held (prescribed) until its release time: what
 /// rigid-proc steps and what the structure's nodes meet.
