@@ -51,16 +51,20 @@ pub fn example_exe(package: &str, name: &str) -> PathBuf {
     target_dir().join("release").join("examples").join(name)
 }
 
+/// Whether `mpirun` runs on this machine (OpenMPI installed).
+pub fn has_mpirun() -> bool {
+    std::process::Command::new("mpirun")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
 /// fluid-proc built with its `mpi` feature, in a target directory of its
 /// own (the default build has no MPI), or None when this machine has no
 /// `mpirun`. CI sets `CANOPY_REQUIRE_MPI` (its script installs OpenMPI), and
 /// then a machine without MPI fails instead of skipping.
 pub fn mpi_fluid_proc() -> Option<PathBuf> {
-    let has_mpirun = std::process::Command::new("mpirun")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has_mpirun {
+    if !has_mpirun() {
         assert!(
             std::env::var_os("CANOPY_REQUIRE_MPI").is_none(),
             "CANOPY_REQUIRE_MPI is set but mpirun cannot be run"

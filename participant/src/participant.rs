@@ -46,7 +46,7 @@ use crate::restart;
 use crate::timing::{Command, Plan, Timing};
 use crate::verdict::{self, Heard};
 use crate::wait::{WaitError, Waiter};
-use crate::wire::{FromParticipant, Setup, Stats};
+use crate::wire::{FromParticipant, Setup, Stats, ToParticipant};
 use iceoryx2::node::Node;
 use iceoryx2::port::notifier::Notifier;
 use std::path::Path;
@@ -263,8 +263,12 @@ impl Participant {
     }
 
     /// The library's part of the run checkpoint of `window`, after the
-    /// solver's: its presence marks this participant's part complete.
-    fn write_checkpoint(&self, window: u64) -> Result<(), ExchangeError> {
+    /// solver's: its presence marks this participant's part complete. It
+    /// is written only once `monitors.csv` holds the rows that go with the
+    /// checkpoint, so that a restart can go on from every complete one
+    /// (the coupler writes rows up to a quarter of a second late).
+    fn write_checkpoint(&mut self, window: u64) -> Result<(), ExchangeError> {
+        self.await_rows_kept(window + 2)?;
         let state = restart::LibraryState {
             monitors: self.rows.latest().to_vec(),
             accelerator: self.tries.as_ref().map(|t| t.accelerator().clone()),
@@ -273,6 +277,29 @@ impl Participant {
         (state.write(run_dir, window, &self.name))
             .and_then(|_| restart::prune(run_dir, &self.name))
             .map_err(|e| ExchangeError::Checkpoint(e.to_string()))
+    }
+
+    /// Send the monitor rows closed so far and wait until the coupler
+    /// says `monitors.csv` holds its first `rows` rows on disk.
+    fn await_rows_kept(&mut self, rows: u64) -> Result<(), ExchangeError> {
+        self.send_rows(true)?;
+        self.control.send(&FromParticipant::Checkpoint { rows })?;
+        let deadline = Duration::from_secs_f64(self.setup.timing.timeout);
+        let commands = &self.control.commands;
+        let answer = self.waiter.wait_for_coupler(deadline, || {
+            channel::try_receive_message::<ToParticipant>(commands)
+        });
+        match answer {
+            Ok(ToParticipant::RowsKept { rows: kept }) if kept >= rows => Ok(()),
+            Ok(other) => Err(ExchangeError::Checkpoint(format!(
+                "the coupler answered {other:?} where it was to keep {rows} monitor rows"
+            ))),
+            Err(WaitError::Timeout(seconds)) => Err(ExchangeError::Checkpoint(format!(
+                "the coupler did not say within {seconds:.1} s that monitors.csv holds \
+                 the {rows} rows of this checkpoint"
+            ))),
+            Err(WaitError::Channel(e)) => Err(e.into()),
+        }
     }
 
     /// The verdict on try `iteration` at `window`, once every participant
@@ -429,10 +456,15 @@ impl Participant {
             Ok(w) => w,
             Err(WaitError::Timeout(seconds)) => {
                 let (field, writer) = (field.to_string(), source.writer.clone());
+                let names = &self.setup.participants;
+                let then = (self.waiter.presence.waits_after(input.writer).into_iter())
+                    .map(|p| names[p].clone())
+                    .collect();
                 let _ = self.control.send(&FromParticipant::Stalled {
                     field: field.clone(),
                     writer: writer.clone(),
                     seconds,
+                    then,
                 });
                 return Err(ExchangeError::Stalled {
                     field,

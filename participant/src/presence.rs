@@ -257,6 +257,27 @@ impl Presence {
         ))
     }
 
+    /// Whom participant `from` waits for, as the flags show it now, and
+    /// whom that one waits for, and so on: the chain of waits after
+    /// `from`, ending at one that computes (or hangs), has left, or would
+    /// close a circle. Its last is the one that holds the others up.
+    pub fn waits_after(&self, from: usize) -> Vec<usize> {
+        let mut chain: Vec<usize> = Vec::new();
+        let mut at = from;
+        while let Some(next) = self
+            .seen(at)
+            .filter(|s| s.state != State::Computing && s.ranks > 0)
+            .and_then(|s| s.waiting_for)
+        {
+            if next == from || next == self.me || chain.contains(&next) {
+                break;
+            }
+            chain.push(next);
+            at = next;
+        }
+        chain
+    }
+
     /// Wake every participant that sleeps.
     pub fn wake_all_sleeping(&self) -> Result<(), ChannelError> {
         let all: Vec<usize> = (0..self.peers.len()).filter(|&p| p != self.me).collect();

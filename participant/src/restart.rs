@@ -46,7 +46,7 @@ pub fn write<T: Serialize>(path: &Path, value: &T) -> io::Result<()> {
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).map_err(with_path)?;
     }
-    let partial = path.with_extension("partial");
+    let partial = crate::atomic::aside(path);
     let mut file = std::fs::File::create(&partial).map_err(with_path)?;
     file.write_all(&bytes).map_err(with_path)?;
     file.sync_all().map_err(with_path)?;

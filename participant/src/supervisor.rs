@@ -35,6 +35,11 @@ pub enum Report {
         values: Vec<f64>,
     },
     Finished(Stats),
+    /// The participant writes the run checkpoint that goes with the first
+    /// `rows` rows, and waits for [`Supervisor::rows_kept`].
+    Checkpoint {
+        rows: u64,
+    },
 }
 
 /// Why the coupler stops a run.
@@ -73,6 +78,32 @@ impl SuperviseError {
             | SuperviseError::Protocol { participant, .. } => Some(participant),
             _ => None,
         }
+    }
+}
+
+/// `waiter` waited `seconds` in vain for `field` from `writer`, which
+/// itself waited for the first of `then`, and so on: the last of the
+/// chain is the one that did not answer, and the message names them all.
+fn stalled(
+    waiter: &str,
+    field: &str,
+    writer: String,
+    then: Vec<String>,
+    seconds: f64,
+) -> SuperviseError {
+    let mut detail = format!(" (`{waiter}` waited for field `{field}`");
+    if !then.is_empty() {
+        detail.push_str(&format!(" from `{writer}`"));
+        for (k, next) in then.iter().enumerate() {
+            let who = if k == 0 { "which" } else { "which in turn" };
+            detail.push_str(&format!(", {who} waited for `{next}`"));
+        }
+    }
+    detail.push(')');
+    SuperviseError::Timeout {
+        participant: then.last().cloned().unwrap_or(writer),
+        seconds,
+        detail,
     }
 }
 
@@ -175,11 +206,8 @@ impl Supervisor {
                 field,
                 writer,
                 seconds,
-            } => Err(SuperviseError::Timeout {
-                participant: writer,
-                seconds,
-                detail: format!(" (`{}` waited for field `{field}`)", self.names[i]),
-            }),
+                then,
+            } => Err(stalled(&self.names[i], &field, writer, then, seconds)),
             other => Ok(other),
         }
     }
@@ -295,6 +323,12 @@ impl Supervisor {
         Ok(())
     }
 
+    /// Tell participant `i` that `monitors.csv` holds its first `rows`
+    /// rows on disk (the answer to [`Report::Checkpoint`]).
+    pub fn rows_kept(&mut self, i: usize, rows: u64) -> Result<(), SuperviseError> {
+        self.send(i, &ToParticipant::RowsKept { rows })
+    }
+
     /// The next report of any participant, waiting at most `slice` for one.
     pub fn next_report(&self, slice: Duration) -> Result<Option<(usize, Report)>, SuperviseError> {
         let deadline = Instant::now() + slice;
@@ -316,6 +350,7 @@ impl Supervisor {
                         values,
                     },
                     FromParticipant::Finished(stats) => Report::Finished(stats),
+                    FromParticipant::Checkpoint { rows } => Report::Checkpoint { rows },
                     other => return Err(self.protocol(i, "a report", other)),
                 };
                 return Ok(Some((i, report)));

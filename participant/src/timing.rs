@@ -137,8 +137,12 @@ impl Interval {
         if self.interval <= 0.0 {
             return false;
         }
-        // A small tolerance keeps round-off in t from skipping one.
-        let tol = 1e-9 * self.interval;
+        // A small tolerance keeps round-off in t from skipping one: a
+        // billionth of the interval, or far from 0 s, where the clock's
+        // steps are coarser than that, a few of them (a window spans at
+        // least 2^20, scenario::MIN_CLOCK_STEPS_PER_WINDOW).
+        let clock_step = t.abs().next_up() - t.abs();
+        let tol = (1e-9 * self.interval).max(16.0 * clock_step);
         let next = self.start + (self.passed + 1) as f64 * self.interval;
         if t < next - tol {
             return false;

@@ -104,6 +104,24 @@ impl Waiter {
         })
     }
 
+    /// Sleep on the wake event until `poll` yields a message from the
+    /// coupler, giving up after `deadline`. Such a wait is rare (a run
+    /// checkpoint's), so it never spins.
+    pub fn wait_for_coupler<T>(
+        &self,
+        deadline: Duration,
+        mut poll: impl FnMut() -> Result<Option<T>, ChannelError>,
+    ) -> Result<T, WaitError> {
+        let start = Instant::now();
+        loop {
+            let waited = match look(start, deadline, &mut poll)? {
+                Ok(value) => return Ok(value),
+                Err(waited) => waited,
+            };
+            channel::block(&self.listener, (deadline - waited).min(BLOCK_SLICE))?;
+        }
+    }
+
     /// Poll while `go_on(waited)`; a value, or None to sleep.
     fn spin<T>(
         &self,

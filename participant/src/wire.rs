@@ -8,7 +8,8 @@
 //! participant opens its ports and says `Ready`, and the coupler says
 //! `Start` once everyone is ready. From then on each participant follows
 //! the schedule by itself and only reports: monitor rows, a failure, or
-//! its statistics at the end.
+//! its statistics at the end; at a run checkpoint it asks the coupler to
+//! keep the rows so far on disk, and waits for the answer.
 
 use crate::declaration::Declaration;
 use crate::timing::Timing;
@@ -102,6 +103,11 @@ pub enum ToParticipant {
     Setup(Setup),
     Connections(Connections),
     Start,
+    /// `monitors.csv` holds its first `rows` rows, synced to disk: the
+    /// answer to [`FromParticipant::Checkpoint`].
+    RowsKept {
+        rows: u64,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -122,11 +128,22 @@ pub enum FromParticipant {
         width: u32,
         values: Vec<f64>,
     },
-    /// No value of `field` came from `writer` within `seconds`.
+    /// No value of `field` came from `writer` within `seconds`; `writer`
+    /// itself waited for the next of `then`, which waited for the one
+    /// after, and so on (the chain of waits the flags showed then): the
+    /// last of the chain is the one that did not answer.
     Stalled {
         field: String,
         writer: String,
         seconds: f64,
+        then: Vec<String>,
+    },
+    /// The participant writes the run checkpoint that goes with the first
+    /// `rows` monitor rows (sent before this), and completes it only once
+    /// the coupler answers [`ToParticipant::RowsKept`]: a complete
+    /// checkpoint always finds its rows in `monitors.csv`.
+    Checkpoint {
+        rows: u64,
     },
     /// The participant cannot go on (diverged, bad input); it exits non-zero after this.
     Failed {

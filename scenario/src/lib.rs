@@ -24,6 +24,10 @@ use std::path::Path;
 pub const MAX_WINDOWS: f64 = 1e9;
 /// Most sub-steps per window.
 pub const MAX_SUBSTEPS: f64 = 1e6;
+/// Fewest steps of the f64 clock a window spans (2^20, about 10^6): the
+/// time of every window's end is then exact to a millionth of a window,
+/// and outputs and checkpoints fall on the windows they are due at.
+pub const MIN_CLOCK_STEPS_PER_WINDOW: f64 = 1048576.0;
 /// Longest answer timeout [s] (a day).
 pub const MAX_TIMEOUT: f64 = 86_400.0;
 /// Most MPI ranks a participant may ask for (guards against typos).
@@ -320,6 +324,7 @@ impl Scenario {
             c.problem(&["coupling", "window"], format!(
                 "window = {} gives more than {MAX_WINDOWS:e} windows from start_time to end_time", k.window));
         }
+        self.check_clock(c);
         c.at_most(
             &["coupling", "structure_substeps"],
             k.structure_substeps as f64,
@@ -356,6 +361,38 @@ impl Scenario {
             (Some(i), SchemeName::Implicit) => i.check(c, k.bodies_iterate()),
             (None, _) => {}
         }
+    }
+
+    /// A clock that tells the windows apart: far from 0 the f64 times
+    /// are coarse (1e15 s steps by 0.125 s), and windows shorter than
+    /// [`MIN_CLOCK_STEPS_PER_WINDOW`] of those steps would end at repeated
+    /// or rounded times.
+    fn check_clock(&self, c: &mut Checker) {
+        let (r, window) = (&self.run, self.coupling.window);
+        let far = r.start_time.abs().max(r.end_time.abs());
+        if !(far.is_finite() && window > 0.0) {
+            return;
+        }
+        let step = far.next_up() - far;
+        if window >= MIN_CLOCK_STEPS_PER_WINDOW * step {
+            return;
+        }
+        // The start, if it alone is that far out; else the end.
+        let start_step = r.start_time.abs().next_up() - r.start_time.abs();
+        let (key, value) = match window < MIN_CLOCK_STEPS_PER_WINDOW * start_step {
+            true => ("start_time", r.start_time),
+            false => ("end_time", r.end_time),
+        };
+        c.problem(
+            &["run", key],
+            format!(
+                "{key} = {value} s: near it the clock (f64) steps by {step:e} s, too coarse \
+                 for windows of {window:e} s (each must span {MIN_CLOCK_STEPS_PER_WINDOW:e} \
+                 steps, so that its end time is exact): start nearer 0 s, or make \
+                 [coupling] window at least {:e} s",
+                MIN_CLOCK_STEPS_PER_WINDOW * step
+            ),
+        );
     }
 
     /// `[participants]` and the tables beside it: each table a listed

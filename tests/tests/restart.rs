@@ -29,15 +29,21 @@ fn results(run: &Path) -> Vec<(String, Vec<u8>)> {
     files
 }
 
-/// Whether a run checkpoint in `out` can be gone on from: complete for
-/// every one of `names`, and `monitors.csv` holds the rows up to its
-/// window (a row at the start and one per window; the coupler writes them
-/// within 0.2 s).
+/// Whether a run checkpoint in `out` is complete for every one of
+/// `names`; if one is, `monitors.csv` holds the rows up to its window (a
+/// row at the start and one per window): a participant completes its part
+/// only once the coupler has them on disk.
 fn usable_checkpoint(out: &Path, names: &[String]) -> bool {
+    let Some(&w) = restart::complete(out, names).first() else {
+        return false;
+    };
     let rows = std::fs::read(out.join("monitors.csv"))
         .map_or(0, |t| t.iter().filter(|&&b| b == b'\n').count() as u64);
-    let complete = restart::complete(out, names);
-    complete.first().is_some_and(|w| rows >= w + 3)
+    assert!(
+        rows >= w + 3,
+        "checkpoint {w} is complete with {rows} lines of monitors.csv"
+    );
+    true
 }
 
 /// How a run is stopped mid-run.
@@ -106,11 +112,17 @@ fn restart_after(stop: Stop, name: &str, scenario: &Path, dir: &Path, names: &[&
     assert_eq!(manifest(&killed)["status"], "completed");
     let kept = std::fs::read_dir(whole.join(restart::DIR)).unwrap().count();
     assert!(kept <= restart::KEEP, "{name}: {kept} run checkpoints kept");
-    let (a, b) = (results(&whole), results(&killed));
-    assert!(a.len() > 3, "{name}: the run left its results");
+    assert_same_results(name, &results(&whole), &killed);
+}
+
+/// The results a restarted run left in `run` are `expected`, file by
+/// file, bit for bit; `name` says which run in a failure.
+fn assert_same_results(name: &str, expected: &[(String, Vec<u8>)], run: &Path) {
+    let got = results(run);
+    assert!(expected.len() > 3, "{name}: the run left its results");
     let names = |r: &[(String, Vec<u8>)]| r.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
-    assert_eq!(names(&a), names(&b), "{name}: the same files");
-    for ((file, x), (_, y)) in a.iter().zip(&b) {
+    assert_eq!(names(expected), names(&got), "{name}: the same files");
+    for ((file, x), (_, y)) in expected.iter().zip(&got) {
         assert!(x == y, "{name}: {file} differs after the restart");
     }
 }
@@ -324,6 +336,63 @@ fn rank_1_wrote_its_part(dir: &Path, fluid: &Option<std::path::PathBuf>) {
         let rank_1 = newest.unwrap().join("fluid.1.state");
         assert!(rank_1.is_file(), "rank 1 wrote its part");
     }
+}
+
+/// Issue 42: the coupler killed with SIGKILL at many moments after its
+/// first run checkpoint is complete, through the checkpoints that follow
+/// (one every 25 windows): every restart goes on, and ends with the
+/// results of the run never interrupted, bit for bit. Before the
+/// participants waited for their rows to be on disk, restarts that came
+/// while `monitors.csv` lagged behind the checkpoints were refused.
+#[test]
+fn a_coupler_killed_anywhere_around_its_checkpoints_always_restarts() {
+    let dir = scratch("restart-anywhere");
+    let scenario = variant("canopy-porous", &dir, |s| {
+        s.run.end_time = 4.0;
+        s.run.output_interval = 0.5;
+        s.run.checkpoint_interval = Some(0.05);
+    });
+    let names = ["fluid", "structure"].map(String::from);
+    let whole = dir.join("whole");
+    run_ok(&scenario, &whole);
+    let expected = results(&whole);
+    for (k, delay_ms) in [0u64, 0, 1, 2, 3, 5, 8, 13, 21, 34, 55, 89]
+        .into_iter()
+        .enumerate()
+    {
+        let out = dir.join(format!("killed-{k}"));
+        let mut running = run_command(&scenario, &out)
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("start coupler");
+        let since = Instant::now();
+        while restart::complete(&out, &names).is_empty() {
+            assert!(
+                since.elapsed() < Duration::from_secs(120),
+                "no checkpoint came"
+            );
+            assert!(
+                running.try_wait().unwrap().is_none(),
+                "kill {k}: the run ended first"
+            );
+            std::thread::sleep(Duration::from_micros(500));
+        }
+        std::thread::sleep(Duration::from_millis(delay_ms));
+        running.kill().expect("SIGKILL the coupler");
+        running.wait().unwrap();
+        assert_eq!(
+            manifest(&out)["status"],
+            "running",
+            "kill {k} came after the end"
+        );
+        let o = coupler(&["run", "--restart", out.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        let name = format!("kill {k}, {delay_ms} ms after the first checkpoint");
+        assert!(o.status.success(), "{name}: restart failed:\n{err}");
+        assert_same_results(&name, &expected, &out);
+        std::fs::remove_dir_all(&out).unwrap();
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// What cannot be restarted says why and exits 2: a completed run, and a

@@ -5,7 +5,7 @@
 //! that read one table give the same line, printed once) and every answer.
 
 use super::programs::{self, Program};
-use scenario::{Answer, CHECK_FLAG};
+use scenario::{Answer, ScenarioError, CHECK_FLAG};
 use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -22,18 +22,19 @@ enum Said {
 }
 
 /// Asks every program in `programs` (name, program) about the scenario at
-/// `path`: their answers in the same order, or every problem, one line
-/// each, in the order of the programs.
+/// `path`, whose text is `text`: their answers in the same order, or every
+/// problem, one line each, in the order of the programs.
 pub fn ask_all(
     programs: &mut [(String, Program)],
     path: &Path,
+    text: &str,
 ) -> Result<Vec<(String, Answer)>, Vec<String>> {
     let said: Vec<Said> = std::thread::scope(|s| {
         let asks: Vec<_> = programs
             .iter_mut()
             .map(|(name, program)| {
                 let name = name.clone();
-                s.spawn(move || ask(&name, program, path))
+                s.spawn(move || ask(&name, program, (path, text)))
             })
             .collect();
         asks.into_iter()
@@ -63,13 +64,16 @@ pub fn ask_all(
     }
 }
 
-/// Asks participant `name`'s `program`.
-fn ask(name: &str, program: &mut Program, path: &Path) -> Said {
+/// Asks participant `name`'s `program` about the scenario at `path`
+/// whose text is `text`. A problem with the program itself is put at its
+/// `program` key.
+fn ask(name: &str, program: &mut Program, (path, text): (&Path, &str)) -> Said {
     let about = |what: String| {
-        Said::Problems(vec![format!(
-            "{}: participant `{name}`: {what}",
-            path.display()
-        )])
+        let key = ["participants", name, "program"];
+        let message = format!("participant `{name}`: {what}");
+        Said::Problems(vec![
+            ScenarioError::at_key(path, text, &key, message).to_string()
+        ])
     };
     let exe = match programs::ensure_built(program) {
         Ok(p) => p,
@@ -93,11 +97,19 @@ fn ask(name: &str, program: &mut Program, path: &Path) -> Said {
                 .filter(|l| !l.trim().is_empty())
                 .map(String::from)
                 .collect();
-            match lines.is_empty() {
-                true => about(format!(
+            // A participant's refusal names the scenario file; a program
+            // that exits 2 otherwise (a usage error) is not one.
+            let names_the_file = |l: &String| l.starts_with(&format!("{}:", path.display()));
+            match lines.first() {
+                None => about(format!(
                     "`{shown} {CHECK_FLAG}` refused the scenario and said nothing"
                 )),
-                false => Said::Problems(lines),
+                Some(_) if lines.iter().any(names_the_file) => Said::Problems(lines),
+                Some(first) => about(format!(
+                    "`{shown} {CHECK_FLAG}` exited with code 2 without naming the \
+                     scenario: is it a canopy participant? It said: {}",
+                    first.trim_start_matches("error: ")
+                )),
             }
         }
         other => about(format!(

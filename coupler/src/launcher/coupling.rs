@@ -91,6 +91,7 @@ pub fn run(
         shared: &shared,
         monitors,
         stats: vec![None; names.len()],
+        checkpoints: Vec::new(),
     };
     let watched = watch.run(sup, progress, &timing);
     let (mut monitors, stats) = (watch.monitors, watch.stats);
@@ -124,12 +125,15 @@ struct Watch<'a> {
     shared: &'a Shared<'a>,
     monitors: Monitors,
     stats: Vec<Option<Stats>>,
+    /// Participants writing a run checkpoint, each with the rows it waits
+    /// to see kept in the file.
+    checkpoints: Vec<(usize, u64)>,
 }
 
 impl Watch<'_> {
     fn run(
         &mut self,
-        sup: &Supervisor,
+        sup: &mut Supervisor,
         progress: &mut Progress,
         timing: &Timing,
     ) -> Result<(), CouplingError> {
@@ -145,6 +149,9 @@ impl Watch<'_> {
             };
             heard = Instant::now();
             self.take(p, report, progress)?;
+            if self.keep_checkpoint_rows(sup)? {
+                flushed = Instant::now();
+            }
             if flushed.elapsed() >= FLUSH_EVERY {
                 self.monitors.flush()?;
                 flushed = Instant::now();
@@ -177,6 +184,7 @@ impl Watch<'_> {
                     progress.update(self.monitors.time_of(r), r);
                 }
             }
+            Report::Checkpoint { rows } => self.checkpoints.push((p, rows)),
             Report::Finished(s) => {
                 self.stats[p] = Some(s);
                 if let Ok(mut f) = self.shared.finished.lock() {
@@ -185,6 +193,30 @@ impl Watch<'_> {
             }
         }
         Ok(())
+    }
+
+    /// Answer the participants writing a run checkpoint whose rows are all
+    /// in: the file written up to them and synced, then each told. Returns
+    /// whether the file was flushed.
+    fn keep_checkpoint_rows(&mut self, sup: &mut Supervisor) -> Result<bool, CouplingError> {
+        let written = self.monitors.written;
+        if !self.checkpoints.iter().any(|&(_, rows)| rows <= written) {
+            return Ok(false);
+        }
+        self.monitors.flush()?;
+        self.monitors.sync()?;
+        let mut error = None;
+        self.checkpoints.retain(|&(p, rows)| {
+            let kept = rows <= written;
+            if kept && error.is_none() {
+                error = sup.rows_kept(p, written).err();
+            }
+            !kept
+        });
+        match error {
+            Some(e) => Err(e.into()),
+            None => Ok(true),
+        }
     }
 }
 

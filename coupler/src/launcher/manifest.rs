@@ -5,7 +5,9 @@
 use super::coupling;
 use super::run::End;
 use super::supervise::{self, Child};
+use participant::atomic::write_atomic;
 use serde_json::json;
+use std::path::Path;
 use std::time::Instant;
 
 fn git_revision() -> Option<String> {
@@ -131,4 +133,78 @@ fn processes_json(children: &[Child], outcome: Option<&coupling::Outcome>) -> se
         })
         .collect();
     serde_json::Value::Array(processes)
+}
+
+/// What a running run's `manifest.json` takes on disk: its JSON, then
+/// spaces up to this many bytes. The manifest written when the run ends
+/// goes over it in place, in the room already taken, if the disk is too
+/// full for a new file then (a run stopped by a full disk must still say
+/// so rather than keep saying it runs).
+const RESERVED: usize = 32 << 10;
+
+/// Write the manifest of a run that starts: aside and renamed, and padded
+/// to [`RESERVED`] bytes.
+pub(super) fn write_early(path: &Path, manifest: &serde_json::Value) -> std::io::Result<()> {
+    let mut text = manifest.to_string();
+    let room = RESERVED.saturating_sub(text.len() + 1);
+    text.extend(std::iter::repeat_n(' ', room));
+    text.push('\n');
+    write_atomic(path, &text)
+}
+
+/// Write the manifest of a run that ended: aside and renamed; on a disk
+/// with no room for that, over the early manifest in place (pretty if it
+/// fits, else on one line).
+pub(super) fn write_final(path: &Path, manifest: &serde_json::Value) -> std::io::Result<()> {
+    let pretty = serde_json::to_string_pretty(manifest).unwrap_or_default();
+    write_atomic(path, &pretty).or_else(|e| {
+        overwrite(path, &pretty)
+            .or_else(|_| overwrite(path, &manifest.to_string()))
+            .map_err(|_| e)
+    })
+}
+
+/// Write `text` over the file at `path` in the bytes it already has, the
+/// rest of them spaces: no new block of the disk is needed.
+fn overwrite(path: &Path, text: &str) -> std::io::Result<()> {
+    use std::io::Write;
+    let len = std::fs::metadata(path)?.len() as usize;
+    if text.len() + 1 > len {
+        return Err(std::io::Error::other(format!(
+            "{} bytes do not fit in the {len} of {}",
+            text.len() + 1,
+            path.display()
+        )));
+    }
+    let mut bytes = text.as_bytes().to_vec();
+    bytes.resize(len - 1, b' ');
+    bytes.push(b'\n');
+    let mut file = std::fs::OpenOptions::new().write(true).open(path)?;
+    file.write_all(&bytes)?;
+    file.sync_data()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The final manifest written over the early one in place (as on a
+    /// full disk) reads back as itself: the padding is JSON whitespace.
+    #[test]
+    fn a_manifest_written_in_place_reads_back() {
+        let dir = std::env::temp_dir().join(format!("canopy-manifest-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("manifest.json");
+        write_early(&path, &json!({"status": "running"})).unwrap();
+        assert_eq!(std::fs::metadata(&path).unwrap().len(), RESERVED as u64);
+        let last = json!({"status": "failed", "error": "cannot write monitors.csv"});
+        overwrite(&path, &serde_json::to_string_pretty(&last).unwrap()).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            serde_json::from_str::<serde_json::Value>(&text).unwrap(),
+            last
+        );
+        assert!(overwrite(&path, &" ".repeat(RESERVED)).is_err(), "too long");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -50,7 +50,7 @@ pub struct Checked {
 /// every problem, one line each (file, line, key and message).
 pub fn load_checked(path: &Path) -> Result<Checked, Vec<String>> {
     let mut checked = load_coupling(path).map_err(|e| vec![e.to_string()])?;
-    checked.answers = checks::ask_all(&mut checked.programs, path)?;
+    checked.answers = checks::ask_all(&mut checked.programs, path, &checked.text)?;
     refuse_what_a_program_cannot_do(&checked).map_err(|e| vec![e.to_string()])?;
     Ok(checked)
 }

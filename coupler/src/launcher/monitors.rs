@@ -296,6 +296,12 @@ impl Monitors {
         }
         Ok(())
     }
+
+    /// Make the rows written so far durable: a run checkpoint that goes
+    /// with them is complete only after this.
+    pub fn sync(&self) -> Result<(), MonitorsError> {
+        self.file.sync_data().map_err(|e| self.io(e))
+    }
 }
 
 /// Bytes of rows written at once (at least one whole row).

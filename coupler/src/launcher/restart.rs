@@ -25,20 +25,28 @@ pub fn prepare(run_dir: &Path, scenario: &Scenario, names: &[String]) -> Result<
     let rows = std::fs::read(&monitors)
         .map(|t| t.iter().filter(|&&b| b == b'\n').count().saturating_sub(1) as u64)
         .unwrap_or(0);
-    // A checkpoint at the end of window w goes with the first w + 2 rows.
-    let window = restart::complete(run_dir, names)
-        .into_iter()
-        .rev()
-        .find(|&w| w + 2 <= rows);
+    // A checkpoint at the end of window w goes with the first w + 2 rows;
+    // a participant completes its part only once the coupler has them on
+    // disk, so every complete checkpoint has its rows.
+    let complete = restart::complete(run_dir, names);
+    let window = complete.iter().rev().find(|&&w| w + 2 <= rows).copied();
     let Some(window) = window else {
-        return Err(match scenario.run.checkpoint_interval {
-            None => format!(
+        return Err(match (scenario.run.checkpoint_interval, complete.last()) {
+            (None, _) => format!(
                 "{shown} has no run checkpoint to go on from: its scenario sets no \
                  [run] checkpoint_interval"
             ),
-            Some(every) => format!(
+            (Some(every), None) => format!(
                 "{shown} has no complete run checkpoint to go on from: the run stopped \
-                 before its first (checkpoint_interval = {every} s)"
+                 before its first was complete (checkpoint_interval = {every} s)"
+            ),
+            (Some(_), Some(_)) => format!(
+                "{shown} has no run checkpoint to go on from whose monitor rows are in \
+                 {}: it holds {rows} rows, and the oldest checkpoint kept (window {}) \
+                 needs {}",
+                monitors.display(),
+                complete[0],
+                complete[0] + 2
             ),
         });
     };
@@ -46,6 +54,8 @@ pub fn prepare(run_dir: &Path, scenario: &Scenario, names: &[String]) -> Result<
         .map_err(|e| format!("cannot cut back {}: {e}", monitors.display()))?;
     debug_assert!(cut, "the rows were counted");
     remove_after(run_dir, window)?;
+    // What the killed run's processes were writing when they died.
+    participant::atomic::remove_left_aside(run_dir);
     Ok(window)
 }
 

@@ -8,7 +8,6 @@ use super::programs::Program;
 use super::progress::Progress;
 use super::supervise::{self, Child, Exit};
 use super::{EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_RUN_FAILED};
-use participant::atomic::write_atomic;
 use participant::supervisor::{self as names, Setup, SuperviseError, Supervisor};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -134,7 +133,7 @@ fn launch(
         "resumed_after_window": resume,
     });
     // Written aside and renamed: a coupler killed here leaves no empty manifest.
-    let _ = write_atomic(&run_dir.join("manifest.json"), &early.to_string());
+    let _ = super::manifest::write_early(&run_dir.join("manifest.json"), &early);
     // Stale resources of earlier runs that died are removed before this one starts.
     names::cleanup_dead_nodes();
 
@@ -150,6 +149,9 @@ fn launch(
     };
     let (end, children) = runtime.block_on(supervise_run(checked, run_id, run_dir, resume));
     names::cleanup_dead_nodes();
+    // Every participant has been reaped: a file still aside is one a
+    // participant was killed while writing.
+    participant::atomic::remove_left_aside(run_dir);
 
     let (status, code) = match &end {
         End::Completed(_) => ("completed", 0),
@@ -159,9 +161,12 @@ fn launch(
     };
     let iterations = Iterations::gather(&run_dir.join("monitors.csv"));
     if let Some(Err(e)) = iterations.as_ref().map(|i| i.write(run_dir)) {
+        // A picture cut short (a full disk) is no picture: none is left.
+        let _ = std::fs::remove_file(run_dir.join("iterations.png"));
         eprintln!("warning: cannot write iterations.csv or iterations.png: {e}");
     }
     if let Err(e) = super::report::write(run_dir) {
+        let _ = std::fs::remove_file(run_dir.join("monitors.png"));
         eprintln!("warning: cannot write monitors.png: {e}");
     }
     let mut manifest = manifest(checked, run_id, &end, &children, status, started);
@@ -170,10 +175,9 @@ fn launch(
     let opening = super::opening::Opening::read(&run_dir.join("monitors.csv"));
     manifest["parachute"] = opening.map_or(serde_json::Value::Null, |o| o.to_json());
     manifest[SCENARIO_FILE] = json!(scenario_file);
-    let _ = write_atomic(
-        &run_dir.join("manifest.json"),
-        &serde_json::to_string_pretty(&manifest).unwrap_or_default(),
-    );
+    if let Err(e) = super::manifest::write_final(&run_dir.join("manifest.json"), &manifest) {
+        eprintln!("warning: {e}");
+    }
     tell(&end, &children, run_dir, started, scenario_path);
     if let Some(o) = opening {
         eprintln!("{}", o.describe());
@@ -215,7 +219,14 @@ fn tell(end: &End, children: &[Child], run_dir: &Path, started: Instant, scenari
                     }
                 }
             }
-            eprintln!("outputs written so far are in {}", run_dir.display());
+            match run_dir.join("monitors.csv").is_file() {
+                true => eprintln!("outputs written so far are in {}", run_dir.display()),
+                false => eprintln!(
+                    "it stopped before its first monitor row: no output was written; the \
+                     participants' logs are in {}",
+                    run_dir.join("logs").display()
+                ),
+            }
         }
         End::Refused(reason) => eprintln!("error: {}: {reason}", scenario_path.display()),
         End::Interrupted => eprintln!(

@@ -27,6 +27,21 @@ fn replace(text: &str, from: &str, to: &str) -> String {
 }
 
 const CASES: &[Case] = &[
+    // Issue 42: at 1e15 s the f64 clock steps by 0.125 s, and 1 ms windows
+    // ended at repeated times.
+    Case {
+        name: "start-time-the-clock-cannot-resolve",
+        edit: |t| {
+            replace(
+                t,
+                "end_time = 10.0",
+                "start_time = 1e15\nend_time = 1.00000000000001e15",
+            )
+        },
+        key: Some("run.start_time"),
+        says: "near it the clock (f64) steps by 1.25e-1 s",
+        line_of: Some("start_time = 1e15"),
+    },
     Case {
         name: "unknown-table",
         edit: |t| format!("{t}\n[bogus]\nx = 1\n"),
@@ -300,59 +315,121 @@ fn line_of(text: &str, needle: &str) -> usize {
     text[..at].matches('\n').count() + 1
 }
 
+/// What `mpirun`'s absence makes of a case that asks for more than one rank.
+const NO_MPIRUN: &str = "under mpirun, which is not on PATH";
+
+/// Whether the bad scenario `text` runs a participant on several ranks,
+/// which the coupler refuses first, at the same key, where `mpirun` is
+/// missing.
+fn asks_for_ranks(text: &str) -> bool {
+    text.lines()
+        .filter_map(|l| l.trim().strip_prefix("ranks = "))
+        .any(|n| n.trim().parse::<u32>().is_ok_and(|n| n > 1))
+}
+
+/// Check `case` with `coupler check` (PATH as `path_env` says, if given),
+/// expecting it to say `says`: what is wrong with the answer, if anything.
+fn wrong_with(
+    case: &Case,
+    dir: &std::path::Path,
+    good: &str,
+    says: &str,
+    path_env: Option<&str>,
+) -> Option<String> {
+    let text = (case.edit)(good);
+    let path = dir.join(format!("{}.toml", case.name));
+    std::fs::write(&path, &text).unwrap();
+    let mut command = std::process::Command::new(coupler_exe());
+    command.args(["check", path.to_str().unwrap()]);
+    if let Some(p) = path_env {
+        command.env("PATH", p);
+    }
+    let out = command.output().expect("run coupler");
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    let mut wrong = Vec::new();
+    if out.status.code() != Some(2) {
+        wrong.push(format!("exit {:?}", out.status.code()));
+    }
+    if stderr.contains("panicked") {
+        wrong.push("panicked".into());
+    }
+    if stderr.trim().lines().count() != 1 {
+        wrong.push("not one line".into());
+    }
+    if !stderr.contains(&format!("{}:", path.display())) {
+        wrong.push("no file name".into());
+    }
+    if let Some(key) = case.key {
+        if !stderr.contains(&format!("key `{key}`")) {
+            wrong.push(format!("no key `{key}`"));
+        }
+    }
+    if !stderr.contains(says) {
+        wrong.push(format!("does not say {says:?}"));
+    }
+    if let Some(marker) = case.line_of {
+        let line = line_of(&text, marker);
+        if !stderr.contains(&format!("{}:{line}:", path.display())) {
+            wrong.push(format!("not at line {line}"));
+        }
+    }
+    (!wrong.is_empty()).then(|| {
+        format!(
+            "{}: {} — got: {}",
+            case.name,
+            wrong.join(", "),
+            stderr.trim()
+        )
+    })
+}
+
+fn all_cases() -> impl Iterator<Item = &'static Case> {
+    CASES
+        .iter()
+        .chain(structure_cases::CASES)
+        .chain(flow_cases::CASES)
+}
+
+/// Every case, on this machine as it is: a case that asks for several
+/// ranks meets the rank checks where `mpirun` is installed, and the
+/// refusal for want of it where it is not (and MPI is not required).
 #[test]
 fn every_malformed_scenario_gets_its_own_message_and_exit_code_2() {
     assert!(CASES.len() + structure_cases::CASES.len() + flow_cases::CASES.len() >= 20);
     let dir = scratch("malformed");
     let good = std::fs::read_to_string(scenario_path("pendulum")).unwrap();
-    let mut failures = Vec::new();
-    for case in CASES
-        .iter()
-        .chain(structure_cases::CASES)
-        .chain(flow_cases::CASES)
-    {
-        let text = (case.edit)(&good);
-        let path = dir.join(format!("{}.toml", case.name));
-        std::fs::write(&path, &text).unwrap();
-        let out = coupler(&["check", path.to_str().unwrap()]);
-        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-        let mut wrong = Vec::new();
-        if out.status.code() != Some(2) {
-            wrong.push(format!("exit {:?}", out.status.code()));
-        }
-        if stderr.contains("panicked") {
-            wrong.push("panicked".into());
-        }
-        if stderr.trim().lines().count() != 1 {
-            wrong.push("not one line".into());
-        }
-        if !stderr.contains(&format!("{}:", path.display())) {
-            wrong.push("no file name".into());
-        }
-        if let Some(key) = case.key {
-            if !stderr.contains(&format!("key `{key}`")) {
-                wrong.push(format!("no key `{key}`"));
-            }
-        }
-        if !stderr.contains(case.says) {
-            wrong.push(format!("does not say {:?}", case.says));
-        }
-        if let Some(marker) = case.line_of {
-            let line = line_of(&text, marker);
-            if !stderr.contains(&format!("{}:{line}:", path.display())) {
-                wrong.push(format!("not at line {line}"));
-            }
-        }
-        if !wrong.is_empty() {
-            failures.push(format!(
-                "{}: {} — got: {}",
-                case.name,
-                wrong.join(", "),
-                stderr.trim()
-            ));
-        }
-    }
+    let mpirun = has_mpirun();
+    let failures: Vec<String> = all_cases()
+        .filter_map(|case| {
+            let ranks = asks_for_ranks(&(case.edit)(&good));
+            let says = if ranks && !mpirun {
+                NO_MPIRUN
+            } else {
+                case.says
+            };
+            wrong_with(case, &dir, &good, says, None)
+        })
+        .collect();
     assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The cases that ask for several ranks on a machine without `mpirun`
+/// (PATH empty; the programs are found beside the coupler): the refusal
+/// names the missing program at the same key and line.
+#[test]
+fn without_mpirun_the_cases_with_ranks_name_the_missing_mpirun() {
+    let dir = scratch("malformed-no-mpirun");
+    let good = std::fs::read_to_string(scenario_path("pendulum")).unwrap();
+    let ranked: Vec<&Case> = all_cases()
+        .filter(|case| asks_for_ranks(&(case.edit)(&good)))
+        .collect();
+    assert!(ranked.len() >= 3, "the rank cases are gone");
+    let failures: Vec<String> = (ranked.iter())
+        .filter_map(|case| wrong_with(case, &dir, &good, NO_MPIRUN, Some("")))
+        .collect();
+    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -437,4 +514,43 @@ fn a_bad_mesh_is_reported_with_its_own_line_and_the_scenario_key() {
         "{stderr}"
     );
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+}
+
+/// A program that is no canopy participant exits 2 on `--check` with a
+/// usage error (issue 42): the refusal names the scenario's line and key
+/// of the program, the participant and the program, on one line, rather
+/// than relaying the usage error alone.
+#[test]
+fn a_program_that_does_not_know_check_is_named_with_its_participant() {
+    let dir = scratch("not-a-participant");
+    let good = std::fs::read_to_string(scenario_path("pendulum")).unwrap();
+    for (k, program) in ["/bin/ls", "coupler"].into_iter().enumerate() {
+        let text = replace(
+            &good,
+            "program = \"rigid-proc\"",
+            &format!("program = \"{program}\""),
+        );
+        let path = dir.join(format!("program-{k}.toml"));
+        std::fs::write(&path, &text).unwrap();
+        let out = coupler(&["check", path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+        let line = line_of(&text, &format!("program = \"{program}\""));
+        let expected = [
+            format!("{}:{line}:", path.display()),
+            "key `participants.rigid.program`".to_string(),
+            "participant `rigid`".to_string(),
+            "exited with code 2 without naming the scenario".to_string(),
+        ];
+        for e in expected {
+            assert!(stderr.contains(&e), "{program}: no {e:?} in {stderr}");
+        }
+        assert!(
+            stderr.contains(program.trim_start_matches("/bin/")),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("error: error:"), "{stderr}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
