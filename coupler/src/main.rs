@@ -76,6 +76,25 @@ enum BenchCmd {
         #[arg(long, default_value_t = 3)]
         repeats: usize,
     },
+    /// The C-9 on the original code's grid (60 × 60 × 120 cells, 11 173
+    /// canopy vertices): seconds per window, explicit and implicit, split
+    /// into the solvers, acceleration, checkpoints and waiting; FronTier++'s
+    /// step beside them.
+    Parachute {
+        /// The scene (default scenarios/c9-frontier-grid.toml).
+        #[arg(long, default_value = "scenarios/c9-frontier-grid.toml")]
+        scene: PathBuf,
+        /// Windows each variant runs (and FronTier++'s steps).
+        #[arg(long, default_value_t = 4)]
+        windows: u32,
+        /// FronTier++'s `airfoil` executable (shared/peers/frontier/build.sh
+        /// builds it): its own C-9 then runs right after, on one process.
+        #[arg(long)]
+        frontier: Option<PathBuf>,
+        /// FronTier++'s C-9 input.
+        #[arg(long, default_value = "../shared/peers/frontier/in-C9")]
+        frontier_input: PathBuf,
+    },
 }
 
 #[derive(Subcommand)]
@@ -150,6 +169,18 @@ fn main() {
         Cmd::Bench {
             what: BenchCmd::Implicit { scene, repeats },
         } => launcher::bench::implicit(&scene, repeats.max(1)),
+        Cmd::Bench {
+            what:
+                BenchCmd::Parachute {
+                    scene,
+                    windows,
+                    frontier,
+                    frontier_input,
+                },
+        } => {
+            let peer = frontier.as_deref().map(|f| (f, frontier_input.as_path()));
+            launcher::bench::parachute(&scene, windows.max(1), peer)
+        }
         Cmd::Study { args } => launcher::study::study(&args),
         Cmd::BenchPeer { peer } => match peer {
             PeerCmd::Library { rounds } => launcher::bench::library_peer(rounds),

@@ -472,6 +472,7 @@ fn the_shipped_scenarios_pass_check() {
         "ball-cloth",
         "cavity",
         "c9-tunnel",
+        "c9-frontier-grid",
         "sod",
         "shu-osher",
     ] {

@@ -20,14 +20,17 @@
 //! one cache line from core to core ([`floor`]), measured in the same run.
 
 mod floor;
+mod frontier;
 mod implicit;
 mod library;
+mod parachute;
 mod pingpong;
 mod raw;
 mod socket;
 
 pub use implicit::implicit;
 pub use library::peer as library_peer;
+pub use parachute::parachute;
 pub use raw::peer as copy_peer;
 pub use socket::peer as socket_peer;
 
