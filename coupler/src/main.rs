@@ -145,7 +145,7 @@ fn main() {
         Cmd::Run {
             restart: Some(run_dir),
             ..
-        } => launcher::run::restart(&run_dir),
+        } => launcher::restart::run(&run_dir),
         Cmd::Run {
             scenario: Some(scenario),
             out,

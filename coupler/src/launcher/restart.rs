@@ -8,7 +8,66 @@
 
 use participant::restart;
 use scenario::Scenario;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The scenario a restart of the run in `run_dir` reads: the file the run
+/// was started from, when it is there still as the run's copy holds it
+/// (so paths relative to its folder, a mesh or a program, resolve as they
+/// did), else the run directory's copy.
+fn restart_scenario(run_dir: &Path) -> PathBuf {
+    let copy = run_dir.join("scenario.toml");
+    let manifest = std::fs::read_to_string(run_dir.join("manifest.json")).unwrap_or_default();
+    let original = serde_json::from_str::<serde_json::Value>(&manifest)
+        .ok()
+        .and_then(|m| m[super::run::SCENARIO_FILE].as_str().map(PathBuf::from));
+    match original {
+        Some(o) if o.is_file() && std::fs::read(&o).ok() == std::fs::read(&copy).ok() => o,
+        _ => copy,
+    }
+}
+
+/// `coupler run --restart RUN_DIR`: the run in `run_dir` goes on from its
+/// last complete run checkpoint, with the scenario it was started with.
+pub fn run(run_dir: &Path) -> i32 {
+    if !run_dir.join("scenario.toml").is_file() {
+        eprintln!(
+            "error: {} is not a run directory: it has no scenario.toml",
+            run_dir.display()
+        );
+        return super::EXIT_BAD_INPUT;
+    }
+    let checked = match super::load_checked(&restart_scenario(run_dir)) {
+        Ok(c) => c,
+        Err(problems) => return super::refuse(&problems),
+    };
+    super::warn(&checked);
+    let started = Instant::now();
+    let names: Vec<String> = checked.programs.iter().map(|(n, _)| n.clone()).collect();
+    let window = match prepare(run_dir, &checked.scenario, &names) {
+        Ok(w) => w,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return super::EXIT_BAD_INPUT;
+        }
+    };
+    let (t, dt) = super::timing(&checked.scenario).window_span(window);
+    eprintln!(
+        "restarting {} from its run checkpoint at t = {} s (window {window})",
+        run_dir.display(),
+        t + dt
+    );
+    let run_dir = run_dir
+        .canonicalize()
+        .unwrap_or_else(|_| run_dir.to_path_buf());
+    super::run::launch(
+        &checked,
+        &participant::supervisor::new_run_id(),
+        &run_dir,
+        Some(window),
+        started,
+    )
+}
 
 /// Where the restarted run in `run_dir` goes on: the window of its latest
 /// complete run checkpoint whose monitor rows `monitors.csv` holds.

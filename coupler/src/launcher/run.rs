@@ -50,69 +50,11 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
 }
 
 /// The manifest's record of the scenario file a run was started from.
-const SCENARIO_FILE: &str = "scenario_file";
-
-/// The scenario a restart of the run in `run_dir` reads: the file the run
-/// was started from, when it is there still as the run's copy holds it
-/// (so paths relative to its folder, a mesh or a program, resolve as they
-/// did), else the run directory's copy.
-fn restart_scenario(run_dir: &Path) -> PathBuf {
-    let copy = run_dir.join("scenario.toml");
-    let manifest = std::fs::read_to_string(run_dir.join("manifest.json")).unwrap_or_default();
-    let original = serde_json::from_str::<serde_json::Value>(&manifest)
-        .ok()
-        .and_then(|m| m[SCENARIO_FILE].as_str().map(PathBuf::from));
-    match original {
-        Some(o) if o.is_file() && std::fs::read(&o).ok() == std::fs::read(&copy).ok() => o,
-        _ => copy,
-    }
-}
-
-/// `coupler run --restart RUN_DIR`: the run in `run_dir` goes on from its
-/// last complete run checkpoint, with the scenario it was started with.
-pub fn restart(run_dir: &Path) -> i32 {
-    if !run_dir.join("scenario.toml").is_file() {
-        eprintln!(
-            "error: {} is not a run directory: it has no scenario.toml",
-            run_dir.display()
-        );
-        return EXIT_BAD_INPUT;
-    }
-    let checked = match super::load_checked(&restart_scenario(run_dir)) {
-        Ok(c) => c,
-        Err(problems) => return super::refuse(&problems),
-    };
-    super::warn(&checked);
-    let started = Instant::now();
-    let names: Vec<String> = checked.programs.iter().map(|(n, _)| n.clone()).collect();
-    let window = match super::restart::prepare(run_dir, &checked.scenario, &names) {
-        Ok(w) => w,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return EXIT_BAD_INPUT;
-        }
-    };
-    let (t, dt) = super::timing(&checked.scenario).window_span(window);
-    eprintln!(
-        "restarting {} from its run checkpoint at t = {} s (window {window})",
-        run_dir.display(),
-        t + dt
-    );
-    let run_dir = run_dir
-        .canonicalize()
-        .unwrap_or_else(|_| run_dir.to_path_buf());
-    launch(
-        &checked,
-        &names::new_run_id(),
-        &run_dir,
-        Some(window),
-        started,
-    )
-}
+pub(super) const SCENARIO_FILE: &str = "scenario_file";
 
 /// Run `checked` in `run_dir`, from the start or from the run checkpoint
 /// at the end of window `resume`; the exit code.
-fn launch(
+pub(super) fn launch(
     checked: &super::Checked,
     run_id: &str,
     run_dir: &Path,
