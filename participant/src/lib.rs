@@ -26,6 +26,7 @@ mod fields;
 mod implicit;
 mod iqn_ils;
 mod joining;
+mod load;
 mod matching;
 mod monitors;
 pub mod mpirun;

@@ -15,8 +15,13 @@
 //! starting to compute, or by another participant falling asleep and
 //! freeing a core. A writer wakes a sleeping reader when its value is out;
 //! a spinning reader costs it nothing.
+//!
+//! Other work on the machine counts: the cores a run has are the
+//! machine's less those the kernel sees busy with tasks not of this run
+//! (`load.rs`), so beside a user's busy process on two cores nobody spins.
 
 use crate::channel::{self, Board, ChannelError, FlagIn, FlagOut, Ipc};
+use crate::load::Load;
 use crate::names;
 use iceoryx2::node::Node;
 use iceoryx2::port::notifier::Notifier;
@@ -179,6 +184,8 @@ pub struct Presence {
     /// By participant index; None for this one.
     peers: Vec<Option<Peer>>,
     cores: u64,
+    /// Cores other work on the machine holds.
+    load: Load,
 }
 
 impl Presence {
@@ -214,6 +221,7 @@ impl Presence {
             me,
             peers,
             cores,
+            load: Load::new(),
         })
     }
 
@@ -305,16 +313,37 @@ impl Presence {
             })
     }
 
+    /// Cores the run has: the machine's, less those other work holds.
+    fn run_cores(&self) -> u64 {
+        let me = self.own.ranks;
+        let ours = me
+            + (0..self.peers.len())
+                .filter_map(|p| self.seen(p))
+                .map(|s| s.cores())
+                .sum::<u64>();
+        let others = self.load.others(std::time::Instant::now(), ours);
+        self.cores.saturating_sub(others)
+    }
+
+    /// Whether other work holds some of the machine's cores now: then not
+    /// even a short spin is free, since a spinner keeps its core from the
+    /// participant it just woke (a sync wake-up puts that one on the
+    /// waker's core).
+    pub fn crowded(&self) -> bool {
+        self.run_cores() < self.cores
+    }
+
     /// Whether participant `p`, waiting as `w`, may spin while this one is
     /// `mine`: its wait is expected short, and the others' busy cores
-    /// leave it room, or, when they do not, the computing ones alone do and
-    /// no spinner expects a shorter wait.
+    /// leave it room among the cores the run has, or, when they do not,
+    /// the computing ones alone do and no spinner expects a shorter wait.
     fn may_spin_as(&self, p: usize, w: Seen, mine: Seen) -> bool {
         if !w.short || !self.can_spin() {
             return false;
         }
+        let cores = self.run_cores();
         let busy: u64 = self.others(p, mine).map(|(_, s)| s.cores()).sum();
-        if busy + w.ranks <= self.cores {
+        if busy + w.ranks <= cores {
             return true;
         }
         let computing: u64 = self
@@ -322,7 +351,7 @@ impl Presence {
             .filter(|(_, s)| s.state == State::Computing)
             .map(|(_, s)| s.cores())
             .sum();
-        computing + w.ranks <= self.cores
+        computing + w.ranks <= cores
             && self
                 .others(p, mine)
                 .filter(|(_, s)| s.state == State::Spinning)

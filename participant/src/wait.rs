@@ -11,7 +11,8 @@ use std::time::{Duration, Instant};
 /// Longest wait expected to be short: a participant spins only while its
 /// last wait for the same field, and this one so far, were no longer.
 pub const SPIN_LONG: Duration = Duration::from_millis(5);
-/// Every wait polls this long before it asks whether to go on spinning.
+/// Every wait polls this long before it asks whether to go on spinning,
+/// unless other work holds some of the machine's cores.
 pub const SPIN_SHORT: Duration = Duration::from_micros(20);
 /// Spin without yielding the core this long; yield between polls after.
 const SPIN_HOT: Duration = Duration::from_micros(50);
@@ -79,7 +80,7 @@ impl Waiter {
         let result = loop {
             p.waiting(State::Spinning, short(start.elapsed()), expected, writer);
             let spun = self.spin(start, deadline, &mut poll, |waited| {
-                waited < SPIN_SHORT || p.may_spin(short(waited), expected, writer)
+                (waited < SPIN_SHORT && !p.crowded()) || p.may_spin(short(waited), expected, writer)
             });
             match spun {
                 Ok(None) => {}

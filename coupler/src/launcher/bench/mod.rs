@@ -15,7 +15,9 @@
 //!
 //! The scene rows run `coupler run` and read the manifest's
 //! `coupling.exchange_share`: the share of the coupled run's wall time in
-//! which no participant computes. Beside it, the floor: the share that the
+//! which no participant computes, run once as the machine is and once
+//! beside a busy process (a user's other work: a coupled run must not
+//! spin against it). Beside it, the floor: the share that the
 //! same number of hand-offs would take if each cost no more than moving
 //! one cache line from core to core ([`floor`]), measured in the same run.
 
@@ -82,9 +84,10 @@ pub fn exchange(rounds: usize, scenes: &[PathBuf]) -> i32 {
         println!();
         println!("exchange share of a coupled run: time inside the library's calls and between a value's sending and its");
         println!("waiting reader seeing it, summed over participants, against the coupled run's wall time (from start to finish);");
-        println!("floor: the share its hand-offs (values read) would take at half the cache-line round trip each");
+        println!("floor: the share its hand-offs (values read) would take at half the cache-line round trip each;");
+        println!("busy: the same run again right after, beside one busy process (`sh -c 'while :; do :; done'`)");
         println!(
-            "{:<34} {:>8} {:>8} {:>10} {:>10} {:>10} {:>9} {:>7} {:>7}",
+            "{:<34} {:>8} {:>8} {:>10} {:>10} {:>10} {:>9} {:>7} {:>7} {:>8} {:>7} {:>7}",
             "scene",
             "wall s",
             "run s",
@@ -93,11 +96,14 @@ pub fn exchange(rounds: usize, scenes: &[PathBuf]) -> i32 {
             "latency s",
             "hand-offs",
             "share",
-            "floor"
+            "floor",
+            "busy s",
+            "share",
+            "× quiet"
         );
     }
     for scene in scenes {
-        match scene_share(&exe, scene, floor_us.unwrap_or(f64::NAN)) {
+        match scene_rows(&exe, scene, floor_us.unwrap_or(f64::NAN)) {
             Ok(line) => println!("{line}"),
             Err(e) => {
                 eprintln!("error: {}: {e}", scene.display());
@@ -128,8 +134,6 @@ fn print_table(table: &[(&str, Vec<Times>)]) {
     }
 }
 
-/// Run `scene` through `coupler run` and read where its wall time went;
-/// `floor_us` is the cache-line round trip.
 /// Run `scene` with the coupler `exe` into a scratch directory, removed
 /// after; its manifest, or why the run failed.
 pub(super) fn run_manifest(exe: &Path, scene: &Path) -> Result<serde_json::Value, String> {
@@ -155,13 +159,41 @@ pub(super) fn run_manifest(exe: &Path, scene: &Path) -> Result<serde_json::Value
     }
 }
 
-fn scene_share(exe: &Path, scene: &Path, floor_us: f64) -> Result<String, String> {
-    let m = run_manifest(exe, scene)?;
+/// A scene's row: its run on the machine as it is, then beside a busy
+/// process.
+fn scene_rows(exe: &Path, scene: &Path, floor_us: f64) -> Result<String, String> {
+    let quiet = run_manifest(exe, scene)?;
+    let busy = beside_a_busy_process(|| run_manifest(exe, scene))?;
+    let wall = |m: &serde_json::Value| m["coupler"]["wall_s"].as_f64().unwrap_or(f64::NAN);
+    let share = |m: &serde_json::Value| m["coupling"]["exchange_share"].as_f64().unwrap_or(f64::NAN);
+    Ok(format!(
+        "{} {:>8.3} {:>6.2}% {:>7.2}",
+        scene_share(scene, &quiet, floor_us),
+        wall(&busy),
+        100.0 * share(&busy),
+        wall(&busy) / wall(&quiet)
+    ))
+}
+
+/// Run `f` while one process spins on a core (a user's other work),
+/// stopped after.
+fn beside_a_busy_process<T>(f: impl FnOnce() -> Result<T, String>) -> Result<T, String> {
+    let mut busy = std::process::Command::new("sh")
+        .args(["-c", "while :; do :; done"])
+        .spawn()
+        .map_err(|e| format!("cannot start a busy process (sh): {e}"))?;
+    let result = f();
+    let _ = busy.kill();
+    let _ = busy.wait();
+    result
+}
+
+fn scene_share(scene: &Path, m: &serde_json::Value, floor_us: f64) -> String {
     let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
     let c = &m["coupling"];
     let reads = c["reads"].as_u64().unwrap_or(0);
     let floor = reads as f64 * 0.5 * floor_us * 1e-6 / f(&c["run_s"]);
-    Ok(format!(
+    format!(
         "{:<34} {:>8.3} {:>8.3} {:>10.3} {:>10.3} {:>10.3} {:>9} {:>6.2}% {:>6.2}%",
         scene.display(),
         f(&m["coupler"]["wall_s"]),
@@ -172,5 +204,5 @@ fn scene_share(exe: &Path, scene: &Path, floor_us: f64) -> Result<String, String
         reads,
         100.0 * f(&c["exchange_share"]),
         100.0 * floor
-    ))
+    )
 }
