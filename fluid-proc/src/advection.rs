@@ -8,6 +8,7 @@
 //!   five faces on the side ū_a comes from (§3.2.1, `weno5.rs`).
 
 use crate::padded::Padded;
+use crate::rows;
 use crate::weno5::reconstruct;
 
 /// N_c = Σ_a ∂(u_a u_c)/∂x_a on the unknown faces of component `c`, written
@@ -35,26 +36,37 @@ pub fn advection(
         // every unknown face f and the one below each.
         let mut range = unknown;
         range[a][0] -= 1;
-        lay.for_box(range, |f, p| {
-            let v = if a == c {
-                0.5 * (uc.data[p] + uc.data[p + s])
-            } else {
-                // The a-face above f along a, on the two cells beside face f along c.
-                let mut q = f;
-                q[a] += 1;
-                let hi = ua.lay.at(q);
-                q[c] -= 1;
-                0.5 * (ua.data[hi] + ua.data[ua.lay.at(q)])
-            };
-            let d = &uc.data;
-            let value = if v >= 0.0 {
-                reconstruct([d[p - 2 * s], d[p - s], d[p], d[p + s], d[p + 2 * s]])
-            } else {
-                reconstruct([d[p + 3 * s], d[p + 2 * s], d[p + s], d[p], d[p - s]])
-            };
-            flux[p] = v * value;
+        let d = &uc.data;
+        rows::each(&lay, range, [&mut *flux], |row, [flux]| {
+            for i in 0..row.len {
+                let p = row.at + i;
+                let mut f = row.first;
+                f[0] += i as isize;
+                let v = if a == c {
+                    0.5 * (d[p] + d[p + s])
+                } else {
+                    // The a-face above f along a, on the two cells beside face f along c.
+                    let mut q = f;
+                    q[a] += 1;
+                    let hi = ua.lay.at(q);
+                    q[c] -= 1;
+                    0.5 * (ua.data[hi] + ua.data[ua.lay.at(q)])
+                };
+                let value = if v >= 0.0 {
+                    reconstruct([d[p - 2 * s], d[p - s], d[p], d[p + s], d[p + 2 * s]])
+                } else {
+                    reconstruct([d[p + 3 * s], d[p + 2 * s], d[p + s], d[p], d[p - s]])
+                };
+                flux[row.offset + i] = v * value;
+            }
         });
         let inv_h = 1.0 / h[a];
-        lay.for_box(unknown, |_, p| out[p] += (flux[p] - flux[p - s]) * inv_h);
+        let flux = &*flux;
+        rows::each(&lay, unknown, [&mut *out], |row, [out]| {
+            for i in 0..row.len {
+                let p = row.at + i;
+                out[row.offset + i] += (flux[p] - flux[p - s]) * inv_h;
+            }
+        });
     }
 }

@@ -7,6 +7,7 @@
 //! equal. On a rank's slab (`part.rs`) the grid is the slab's.
 
 use crate::grid::Grid;
+use crate::rows;
 
 /// Face velocities [m/s]: `u[d]` on the faces normal to axis d.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -76,10 +77,21 @@ pub fn for_each_cell_faces(n: [usize; 3], mut f: impl FnMut(usize, [usize; 3], [
 /// div[c] = Σ_d (u_d above − u_d below)/h_d [1/s].
 pub fn divergence(g: &Grid, u: &Faces, div: &mut [f64]) {
     let inv_h = g.h.map(|h| 1.0 / h);
-    for_each_cell_faces(g.n, |c, below, up| {
-        div[c] = (0..3)
-            .map(|d| (u.u[d][below[d] + up[d]] - u.u[d][below[d]]) * inv_h[d])
-            .sum();
+    let n = g.n;
+    // Faces normal to d: their counts, and the step from the face below a
+    // cell to the one above it.
+    let m = [0, 1, 2].map(|d| face_counts(n, d));
+    let up = [0, 1, 2].map(|d| [1, m[d][0], m[d][0] * m[d][1]][d]);
+    rows::each_plain(div, n, |j, k, row| {
+        let first = m.map(|m| m[0] * (j + m[1] * k));
+        for (i, out) in row.iter_mut().enumerate() {
+            *out = (0..3)
+                .map(|d| {
+                    let below = first[d] + i;
+                    (u.u[d][below + up[d]] - u.u[d][below]) * inv_h[d]
+                })
+                .sum();
+        }
     });
 }
 

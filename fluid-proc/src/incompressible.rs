@@ -28,7 +28,8 @@ use crate::immersed::{force, Air, ImmersedBody};
 use crate::padded::Padded;
 use crate::part::{Halo, Part};
 use crate::poisson::{Poisson, SolveError};
-use crate::projection::{for_each_gradient, project};
+use crate::projection::{gradients, project};
+use crate::rows;
 use crate::side::{bcs, Sides};
 use crate::viscosity::{laplacian, Helmholtz, ViscousError};
 use fluid_section::flow::MAX_COURANT;
@@ -361,15 +362,20 @@ impl Incompressible {
             laplacian(u, h, &mut w.lap);
             // The change over the step solves (I − αL)δ = Δt(−N^{n+½} − ∇q + νLuⁿ),
             // which is eq. (3.18) less (I − αL)uⁿ.
-            let grad_q = &mut w.grad_q;
-            for_each_gradient(grid, &self.q, &self.halo, c, |f, g| grad_q[f] = g);
+            gradients(grid, &self.q, &self.halo, c, &mut w.grad_q, |g, grad| {
+                *g = grad
+            });
             let lay = u.lay;
             let m = lay.m;
-            let ([n0, n1], lap, b) = (&w.n, &w.lap, &mut w.b);
-            lay.for_box(lay.unknown_box(), |f, p| {
-                let face = f[0] as usize + m[0] * (f[1] as usize + m[1] * f[2] as usize);
-                let adv = ab[0] * n0[p] + ab[1] * n1[p];
-                b[p] = dt * (-adv - grad_q[face] + nu * lap[p]);
+            let ([n0, n1], lap, grad_q) = (&w.n, &w.lap, &w.grad_q);
+            rows::each(&lay, lay.unknown_box(), [&mut w.b], |row, [b]| {
+                let [i0, j, k] = row.first.map(|x| x as usize);
+                let face0 = i0 + m[0] * (j + m[1] * k);
+                for i in 0..row.len {
+                    let p = row.at + i;
+                    let adv = ab[0] * n0[p] + ab[1] * n1[p];
+                    b[row.offset + i] = dt * (-adv - grad_q[face0 + i] + nu * lap[p]);
+                }
             });
             viscous_iterations += w.helmholtz.solve(
                 sides,
@@ -391,7 +397,11 @@ impl Incompressible {
             };
             let lay = u.lay;
             let d = &w.delta.data;
-            lay.for_box(lay.unknown_box(), |_, p| u.data[p] += d[p] - dv[c]);
+            rows::each(&lay, lay.unknown_box(), [&mut u.data], |row, [u]| {
+                for i in 0..row.len {
+                    u[row.offset + i] += d[row.at + i] - dv[c];
+                }
+            });
             u.fill_ghosts(sides);
             u.store(&mut self.u);
         }

@@ -16,6 +16,7 @@
 use crate::grid::{Bc, Grid, Neighbour};
 use crate::part::Halo;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Lines shorter than this many cells per task are not worth a thread.
 const CELLS_PER_TASK: usize = 4096;
@@ -146,7 +147,7 @@ impl Stencil {
     #[inline(always)]
     fn beside_sum(
         &self,
-        x: &[f64],
+        x: impl Fn(usize) -> f64,
         start: usize,
         rows: &[(usize, f64)],
         beyond: &[&[f64]],
@@ -156,18 +157,18 @@ impl Stencil {
         let c = start + i;
         let mut sx = 0.0;
         if i > 0 {
-            sx += x[c - 1];
+            sx += x(c - 1);
         } else if self.x_wraps {
-            sx += x[c + nx - 1];
+            sx += x(c + nx - 1);
         }
         if i + 1 < nx {
-            sx += x[c + 1];
+            sx += x(c + 1);
         } else if self.x_wraps {
-            sx += x[start];
+            sx += x(start);
         }
         let mut s = self.w[0] * sx;
         for &(b, w) in rows {
-            s += w * x[b + i];
+            s += w * x(b + i);
         }
         for h in beyond {
             s += self.halo_weight * h[i];
@@ -180,28 +181,44 @@ impl Stencil {
     pub fn apply(&self, x: &[f64], halo: &Halo, out: &mut [f64]) {
         let nx = self.grid.n[0];
         let per_task = (CELLS_PER_TASK / nx).max(1);
-        out.par_chunks_mut(nx)
-            .zip(self.lines.par_iter())
-            .with_min_len(per_task)
-            .for_each(|(o, line)| {
-                let (rows, count) = self.rows(line);
-                let rows = &rows[..count];
-                let (beyond, halos) = self.halo_rows(line, halo);
-                let beyond = &beyond[..halos];
-                for (i, o) in o.iter_mut().enumerate() {
-                    let c = line.start + i;
-                    *o = self.diag[c] * x[c] - self.beside_sum(x, line.start, rows, beyond, i);
-                }
-            });
+        let line_of = |(o, line): (&mut [f64], &Line)| {
+            let (rows, count) = self.rows(line);
+            let rows = &rows[..count];
+            let (beyond, halos) = self.halo_rows(line, halo);
+            let beyond = &beyond[..halos];
+            for (i, o) in o.iter_mut().enumerate() {
+                let c = line.start + i;
+                *o = self.diag[c] * x[c] - self.beside_sum(|c| x[c], line.start, rows, beyond, i);
+            }
+        };
+        match self.lines.len() > per_task {
+            true => out
+                .par_chunks_mut(nx)
+                .zip(self.lines.par_iter())
+                .with_min_len(per_task)
+                .for_each(line_of),
+            // A coarse level: not worth waking another thread.
+            false => out.chunks_mut(nx).zip(&self.lines).for_each(line_of),
+        }
     }
 
     /// One Gauss–Seidel pass over the cells of one colour ((i + j + k) mod 2
     /// in the whole box) for A x = b. A cell with a zero diagonal (a lone
     /// cell with no sides to speak of) is left alone.
+    ///
+    /// A cell's neighbours are all of the other colour, so the lines are
+    /// independent and go to the pool's threads, with the same result on
+    /// any number: a line writes only its cells of this colour and reads
+    /// only cells of the other. The cells are read and written as atomics
+    /// (plain loads and stores on x86-64) since a line reads lines that
+    /// other threads write at the cells it does not read.
     pub fn gauss_seidel(&self, b: &[f64], x: &mut [f64], halo: &Halo, colour: usize) {
         let nx = self.grid.n[0];
         let ny = self.grid.n[1];
-        for (l, line) in self.lines.iter().enumerate() {
+        let cells = as_atomic(x);
+        let get = |c: usize| f64::from_bits(cells[c].load(Ordering::Relaxed));
+        let per_task = (CELLS_PER_TASK / nx).max(1);
+        let sweep = |(l, line): (usize, &Line)| {
             let (rows, count) = self.rows(line);
             let rows = &rows[..count];
             let (beyond, halos) = self.halo_rows(line, halo);
@@ -212,11 +229,34 @@ impl Stencil {
                 let c = line.start + i;
                 let d = self.diag[c];
                 if d != 0.0 {
-                    x[c] = (b[c] + self.beside_sum(x, line.start, rows, beyond, i)) / d;
+                    let v = (b[c] + self.beside_sum(get, line.start, rows, beyond, i)) / d;
+                    cells[c].store(v.to_bits(), Ordering::Relaxed);
                 }
             }
+        };
+        match self.lines.len() > per_task {
+            true => self
+                .lines
+                .par_iter()
+                .enumerate()
+                .with_min_len(per_task)
+                .for_each(sweep),
+            // A coarse level: not worth waking another thread.
+            false => self.lines.iter().enumerate().for_each(sweep),
         }
     }
+}
+
+/// `x` as atomics of its bits, for as long as it is borrowed.
+fn as_atomic(x: &mut [f64]) -> &[AtomicU64] {
+    const _: () = assert!(
+        std::mem::size_of::<f64>() == std::mem::size_of::<AtomicU64>()
+            && std::mem::align_of::<f64>() == std::mem::align_of::<AtomicU64>()
+    );
+    // SAFETY: AtomicU64 has f64's size and alignment (checked above), any
+    // bits are a valid u64, and x stays mutably borrowed for as long as the
+    // atomics live, so nothing reads or writes it but through them.
+    unsafe { &*(x as *mut [f64] as *const [AtomicU64]) }
 }
 
 /// What the face of cell `c` along d (below or above) puts on the diagonal.

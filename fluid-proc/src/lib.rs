@@ -13,7 +13,9 @@
 //!   - the pressure operator (`laplacian.rs`), its multigrid-preconditioned
 //!     conjugate-gradient solve (`multigrid.rs`, `poisson.rs`) and the
 //!     projection (`projection.rs`) of the face velocities on the staggered
-//!     grid (`faces.rs`).
+//!     grid (`faces.rs`);
+//!   - every loop of the step on the pool's threads, the same to the bit
+//!     on any number of them (`rows.rs`).
 //! - Rigid bodies in that flow: markers on their surfaces (`surface.rs`)
 //!   held to the bodies' motion by direct forcing (`immersed.rs`) with
 //!   Peskin's 4-point δ (`delta.rs`); the pressure force of eq. 2.40 read
@@ -78,6 +80,7 @@ pub mod projection;
 pub mod rank_checkpoint;
 pub mod ranks;
 pub mod riemann;
+pub mod rows;
 pub mod setup;
 pub mod side;
 pub mod surface;

@@ -26,6 +26,7 @@
 use crate::grid::Grid;
 use crate::laplacian::Stencil;
 use crate::part::{Halo, Part};
+use crate::rows;
 
 /// Smoothing sweeps before and after the coarse correction.
 const SWEEPS: usize = 2;
@@ -44,6 +45,10 @@ struct Level {
     r: Vec<f64>,
     /// Parent cell on the next coarser level.
     parent: Vec<usize>,
+    /// Each coarser cell's children on this level, ascending: those of
+    /// cell p are `kids[first_kid[p]..first_kid[p + 1]]`.
+    first_kid: Vec<usize>,
+    kids: Vec<usize>,
     /// Children per coarse cell (2^axes halved).
     children: f64,
 }
@@ -125,6 +130,8 @@ impl Multigrid {
                     }
                     None => (Vec::new(), 1.0),
                 };
+                let coarse_cells = locals.get(l + 1).map_or(0, |c| c.cells());
+                let (first_kid, kids) = children_of(&parent, coarse_cells);
                 Level {
                     stencil: Stencil::on(g, part.slab.lo),
                     halo: Halo::default(),
@@ -133,6 +140,8 @@ impl Multigrid {
                     x: vec![0.0; cells],
                     r: vec![0.0; cells],
                     parent,
+                    first_kid,
+                    kids,
                     children,
                 }
             })
@@ -204,21 +213,22 @@ impl Multigrid {
         }
         level.part.fill_halo(&level.x, &mut level.halo);
         level.stencil.apply(&level.x, &level.halo, &mut level.r);
-        for (r, b) in level.r.iter_mut().zip(&level.b) {
-            *r = b - *r;
-        }
+        let b = &level.b;
+        rows::for_each(&mut level.r, |r, i| *r = b[i] - *r);
         let (fine, coarse) = self.levels.split_at_mut(l + 1);
         let (f, c) = (&mut fine[l], &mut coarse[0]);
-        c.b.fill(0.0);
-        for (i, &p) in f.parent.iter().enumerate() {
-            c.b[p] += f.r[i] / f.children;
-        }
+        // Restriction: each coarse cell sums its children in ascending order.
+        rows::for_each(&mut c.b, |b, p| {
+            *b = 0.0;
+            for &i in &f.kids[f.first_kid[p]..f.first_kid[p + 1]] {
+                *b += f.r[i] / f.children;
+            }
+        });
         self.cycle(l + 1);
         let (fine, coarse) = self.levels.split_at_mut(l + 1);
         let (f, c) = (&mut fine[l], &coarse[0]);
-        for (i, &p) in f.parent.iter().enumerate() {
-            f.x[i] += c.x[p];
-        }
+        let parent = &f.parent;
+        rows::for_each(&mut f.x, |x, i| *x += c.x[parent[i]]);
         for _ in 0..SWEEPS {
             sweep(f, 1);
             sweep(f, 0);
@@ -238,6 +248,26 @@ fn sweep(level: &mut Level, colour: usize) {
 /// Takes the mean over the whole box (all of `part`'s ranks) from `x`.
 pub fn remove_mean(x: &mut [f64], part: &Part) {
     let count = part.slab.n.iter().product::<usize>() as f64;
+    // The sum on one thread, in the cells' order (`rows.rs` says why).
     let mean = part.sum(x.iter().sum::<f64>()) / count;
-    x.iter_mut().for_each(|v| *v -= mean);
+    rows::for_each(x, |v, _| *v -= mean);
+}
+
+/// The children of each of `coarse` cells from the fine cells' parents, as
+/// (first child per cell and one past the last, children ascending).
+fn children_of(parent: &[usize], coarse: usize) -> (Vec<usize>, Vec<usize>) {
+    let mut first = vec![0; coarse + 1];
+    for &p in parent {
+        first[p + 1] += 1;
+    }
+    for p in 0..coarse {
+        first[p + 1] += first[p];
+    }
+    let mut next = first.clone();
+    let mut kids = vec![0; parent.len()];
+    for (i, &p) in parent.iter().enumerate() {
+        kids[next[p]] = i;
+        next[p] += 1;
+    }
+    (first, kids)
 }

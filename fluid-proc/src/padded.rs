@@ -16,6 +16,7 @@
 
 use crate::faces::Faces;
 use crate::part::Part;
+use crate::rows;
 use crate::side::{parabola, Side, Sides};
 
 /// Ghost layers per side: WENO5 reads three values beyond a face.
@@ -144,26 +145,22 @@ impl Padded {
     pub fn load(&mut self, u: &Faces) {
         let src = &u.u[self.c];
         let m = self.lay.m;
-        for k in 0..m[2] {
-            for j in 0..m[1] {
-                let s = m[0] * (j + m[1] * k);
-                let d = self.lay.at([0, j as isize, k as isize]);
-                self.data[d..d + m[0]].copy_from_slice(&src[s..s + m[0]]);
-            }
-        }
+        let all = [0, 1, 2].map(|a| [0, m[a] as isize]);
+        rows::each(&self.lay, all, [&mut self.data], |row, [d]| {
+            let [_, j, k] = row.first.map(|x| x as usize);
+            let s = m[0] * (j + m[1] * k);
+            d[row.offset..row.offset + m[0]].copy_from_slice(&src[s..s + m[0]]);
+        });
     }
 
     /// Copies every face back, sides and periodic repeats included.
     pub fn store(&self, u: &mut Faces) {
-        let dst = &mut u.u[self.c];
         let m = self.lay.m;
-        for k in 0..m[2] {
-            for j in 0..m[1] {
-                let d = m[0] * (j + m[1] * k);
-                let s = self.lay.at([0, j as isize, k as isize]);
-                dst[d..d + m[0]].copy_from_slice(&self.data[s..s + m[0]]);
-            }
-        }
+        let lay = self.lay;
+        rows::each_plain(&mut u.u[self.c], m, |j, k, dst| {
+            let s = lay.at([0, j as isize, k as isize]);
+            dst.copy_from_slice(&self.data[s..s + m[0]]);
+        });
     }
 
     /// Sets the side faces and fills the ghosts from the values inside, axis

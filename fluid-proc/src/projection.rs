@@ -13,36 +13,35 @@ use crate::faces::{divergence, face_counts, Faces};
 use crate::grid::{Bc, Grid};
 use crate::part::Halo;
 use crate::poisson::{Poisson, SolveError};
+use crate::rows;
 
-/// Calls `f(face index, ∂φ/∂x_d)` for every face normal to d, in index
-/// order (`gradient` on the sides, a plain difference inside).
-pub fn for_each_gradient(
+/// Calls `f(&mut out[face], ∂φ/∂x_d)` for every face normal to d
+/// (`gradient` on the sides, a plain difference inside), rows of faces
+/// along x on the pool's threads.
+pub fn gradients(
     g: &Grid,
     phi: &[f64],
     halo: &Halo,
     d: usize,
-    mut f: impl FnMut(usize, f64),
+    out: &mut [f64],
+    f: impl Fn(&mut f64, f64) + Sync,
 ) {
     let n = g.n;
     let m = face_counts(n, d);
     let stride = [1, n[0], n[0] * n[1]][d];
     let inv_h = 1.0 / g.h[d];
-    let mut face = 0;
-    for k in 0..m[2] {
-        for j in 0..m[1] {
-            for i in 0..m[0] {
-                let c = [i, j, k];
-                let grad = if c[d] > 0 && c[d] < n[d] {
-                    let cell = i + n[0] * (j + n[1] * k);
-                    (phi[cell] - phi[cell - stride]) * inv_h
-                } else {
-                    gradient(g, phi, halo, d, c)
-                };
-                f(face, grad);
-                face += 1;
-            }
+    rows::each_plain(out, m, |j, k, row| {
+        for (i, o) in row.iter_mut().enumerate() {
+            let c = [i, j, k];
+            let grad = if c[d] > 0 && c[d] < n[d] {
+                let cell = i + n[0] * (j + n[1] * k);
+                (phi[cell] - phi[cell - stride]) * inv_h
+            } else {
+                gradient(g, phi, halo, d, c)
+            };
+            f(o, grad);
         }
-    }
+    });
 }
 
 /// Project `u` (u* on entry) onto divergence-free fields: solve for φ
@@ -63,7 +62,7 @@ pub fn project(
     for (d, u) in u.u.iter_mut().enumerate() {
         // Nothing varies along a periodic axis one cell thick.
         if g.n[d] > 1 || g.bc[d][0] != Bc::Periodic {
-            for_each_gradient(g, phi, halo, d, |f, grad| u[f] -= dt * grad);
+            gradients(g, phi, halo, d, u, |u, grad| *u -= dt * grad);
         }
     }
     Ok(iterations)

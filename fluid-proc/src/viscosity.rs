@@ -15,6 +15,7 @@
 //! (each face counted by the one rank that updates it).
 
 use crate::padded::{Layout, Padded};
+use crate::rows;
 use crate::side::Sides;
 
 /// out = L u = Σ_a (u₊ − 2u + u₋)/h_a² on the unknown faces (ghosts filled).
@@ -26,11 +27,14 @@ pub fn laplacian(u: &Padded, h: [f64; 3], out: &mut [f64]) {
         .map(|a| (lay.stride[a], w[a]))
         .collect();
     let d = &u.data;
-    lay.for_box(lay.unknown_box(), |_, p| {
-        out[p] = axes
-            .iter()
-            .map(|&(s, w)| w * (d[p + s] - 2.0 * d[p] + d[p - s]))
-            .sum();
+    rows::each(&lay, lay.unknown_box(), [out], |row, [o]| {
+        for i in 0..row.len {
+            let p = row.at + i;
+            o[row.offset + i] = axes
+                .iter()
+                .map(|&(s, w)| w * (d[p + s] - 2.0 * d[p] + d[p - s]))
+                .sum();
+        }
     });
 }
 
@@ -79,6 +83,7 @@ impl Helmholtz {
         let lay = delta.lay;
         let range = lay.unknown_box();
         let part = delta.part().clone();
+        // Sums on one thread in the grid's order (`rows.rs` says why).
         let dot = |x: &[f64], y: &[f64]| {
             let mut s = 0.0;
             lay.for_box(range, |_, p| s += x[p] * y[p]);
@@ -88,11 +93,19 @@ impl Helmholtz {
         // r = b − (I − αL)δ, and the first direction p = r.
         delta.fill_ghosts(&homogeneous);
         laplacian(delta, h, &mut self.q);
-        let (r, p, q, d) = (&mut self.r, &mut self.p.data, &self.q, &delta.data);
-        lay.for_box(range, |_, i| {
-            r[i] = b[i] - (d[i] - alpha * q[i]);
-            p[i] = r[i];
-        });
+        let (q, d) = (&self.q, &delta.data);
+        rows::each(
+            &lay,
+            range,
+            [&mut self.r, &mut self.p.data],
+            |row, [r, p]| {
+                for i in 0..row.len {
+                    let (at, o) = (row.at + i, row.offset + i);
+                    r[o] = b[at] - (d[at] - alpha * q[at]);
+                    p[o] = r[o];
+                }
+            },
+        );
         let mut rr = dot(&self.r, &self.r);
         let goal = tolerance * norm_b;
         if norm_b == 0.0 {
@@ -110,7 +123,8 @@ impl Helmholtz {
             .collect();
         for it in 1..=MAX_ITERATIONS {
             self.p.fill_ghosts(&homogeneous);
-            let pq = part.sum(self.apply(&axes, lay, range));
+            self.apply(&axes, lay, range);
+            let pq = dot(&self.p.data, &self.q);
             let p = &self.p.data;
             let step = rr / pq;
             if !step.is_finite() {
@@ -120,21 +134,32 @@ impl Helmholtz {
                     reached: f64::NAN,
                 });
             }
-            let (r, q, d) = (&mut self.r, &self.q, &mut delta.data);
-            let mut rr_new = 0.0;
-            lay.for_box(range, |_, i| {
-                d[i] += step * p[i];
-                r[i] -= step * q[i];
-                rr_new += r[i] * r[i];
-            });
-            let rr_new = part.sum(rr_new);
+            let q = &self.q;
+            rows::each(
+                &lay,
+                range,
+                [&mut delta.data, &mut self.r],
+                |row, [d, r]| {
+                    for i in 0..row.len {
+                        let (at, o) = (row.at + i, row.offset + i);
+                        d[o] += step * p[at];
+                        r[o] -= step * q[at];
+                    }
+                },
+            );
+            let rr_new = dot(&self.r, &self.r);
             if rr_new.sqrt() <= goal {
                 return Ok(it);
             }
             let beta = rr_new / rr;
             rr = rr_new;
-            let p = &mut self.p.data;
-            lay.for_box(range, |_, i| p[i] = r[i] + beta * p[i]);
+            let r = &self.r;
+            rows::each(&lay, range, [&mut self.p.data], |row, [p]| {
+                for i in 0..row.len {
+                    let o = row.offset + i;
+                    p[o] = r[row.at + i] + beta * p[o];
+                }
+            });
         }
         Err(ViscousError {
             component: delta.c,
@@ -144,18 +169,18 @@ impl Helmholtz {
     }
 
     /// q = (I − αL)p on this rank's unknowns (`axes`: each axis's stride and
-    /// α/h²); returns this rank's part of p·q.
-    fn apply(&mut self, axes: &[(usize, f64)], lay: Layout, range: [[isize; 2]; 3]) -> f64 {
-        let (p, q) = (&self.p.data, &mut self.q);
-        let mut pq = 0.0;
-        lay.for_box(range, |_, i| {
-            let mut v = p[i];
-            for &(s, aw) in axes {
-                v -= aw * (p[i + s] - 2.0 * p[i] + p[i - s]);
+    /// α/h²).
+    fn apply(&mut self, axes: &[(usize, f64)], lay: Layout, range: [[isize; 2]; 3]) {
+        let p = &self.p.data;
+        rows::each(&lay, range, [&mut self.q], |row, [q]| {
+            for i in 0..row.len {
+                let at = row.at + i;
+                let mut v = p[at];
+                for &(s, aw) in axes {
+                    v -= aw * (p[at + s] - 2.0 * p[at] + p[at - s]);
+                }
+                q[row.offset + i] = v;
             }
-            q[i] = v;
-            pq += p[i] * v;
-        });
-        pq
+        })
     }
 }

@@ -92,7 +92,12 @@ fn least_fresh(readings: &[Option<(Instant, u64)>], now: Instant) -> u64 {
 
 /// The runnable count in a `/proc/loadavg` line: "0.10 0.05 0.01 3/80 1695".
 fn runnable_in(line: &str) -> Option<u64> {
-    line.split_whitespace().nth(3)?.split('/').next()?.parse().ok()
+    line.split_whitespace()
+        .nth(3)?
+        .split('/')
+        .next()?
+        .parse()
+        .ok()
 }
 
 #[cfg(test)]
@@ -144,6 +149,9 @@ mod tests {
             .unwrap();
         stop.store(true, std::sync::atomic::Ordering::Relaxed);
         busy.join().unwrap();
-        assert!(most >= 2, "at most {most} runnable with a thread spinning beside this one");
+        assert!(
+            most >= 2,
+            "at most {most} runnable with a thread spinning beside this one"
+        );
     }
 }

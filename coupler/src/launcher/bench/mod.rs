@@ -165,7 +165,8 @@ fn scene_rows(exe: &Path, scene: &Path, floor_us: f64) -> Result<String, String>
     let quiet = run_manifest(exe, scene)?;
     let busy = beside_a_busy_process(|| run_manifest(exe, scene))?;
     let wall = |m: &serde_json::Value| m["coupler"]["wall_s"].as_f64().unwrap_or(f64::NAN);
-    let share = |m: &serde_json::Value| m["coupling"]["exchange_share"].as_f64().unwrap_or(f64::NAN);
+    let share =
+        |m: &serde_json::Value| m["coupling"]["exchange_share"].as_f64().unwrap_or(f64::NAN);
     Ok(format!(
         "{} {:>8.3} {:>6.2}% {:>7.2}",
         scene_share(scene, &quiet, floor_us),
