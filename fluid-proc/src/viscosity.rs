@@ -83,29 +83,10 @@ impl Helmholtz {
         let lay = delta.lay;
         let range = lay.unknown_box();
         let part = delta.part().clone();
-        // Sums on one thread in the grid's order (`rows.rs` says why).
-        let dot = |x: &[f64], y: &[f64]| {
-            let mut s = 0.0;
-            lay.for_box(range, |_, p| s += x[p] * y[p]);
-            part.sum(s)
-        };
+        let dot = |x: &[f64], y: &[f64]| part.sum(dot(&lay, range, x, y));
         let norm_b = dot(b, b).sqrt();
-        // r = b − (I − αL)δ, and the first direction p = r.
         delta.fill_ghosts(&homogeneous);
-        laplacian(delta, h, &mut self.q);
-        let (q, d) = (&self.q, &delta.data);
-        rows::each(
-            &lay,
-            range,
-            [&mut self.r, &mut self.p.data],
-            |row, [r, p]| {
-                for i in 0..row.len {
-                    let (at, o) = (row.at + i, row.offset + i);
-                    r[o] = b[at] - (d[at] - alpha * q[at]);
-                    p[o] = r[o];
-                }
-            },
-        );
+        self.first_residual(h, alpha, b, delta);
         let mut rr = dot(&self.r, &self.r);
         let goal = tolerance * norm_b;
         if norm_b == 0.0 {
@@ -124,9 +105,7 @@ impl Helmholtz {
         for it in 1..=MAX_ITERATIONS {
             self.p.fill_ghosts(&homogeneous);
             self.apply(&axes, lay, range);
-            let pq = dot(&self.p.data, &self.q);
-            let p = &self.p.data;
-            let step = rr / pq;
+            let step = rr / dot(&self.p.data, &self.q);
             if !step.is_finite() {
                 return Err(ViscousError {
                     component: delta.c,
@@ -134,38 +113,67 @@ impl Helmholtz {
                     reached: f64::NAN,
                 });
             }
-            let q = &self.q;
-            rows::each(
-                &lay,
-                range,
-                [&mut delta.data, &mut self.r],
-                |row, [d, r]| {
-                    for i in 0..row.len {
-                        let (at, o) = (row.at + i, row.offset + i);
-                        d[o] += step * p[at];
-                        r[o] -= step * q[at];
-                    }
-                },
-            );
+            self.advance(step, delta);
             let rr_new = dot(&self.r, &self.r);
             if rr_new.sqrt() <= goal {
                 return Ok(it);
             }
-            let beta = rr_new / rr;
+            self.next_direction(rr_new / rr, lay);
             rr = rr_new;
-            let r = &self.r;
-            rows::each(&lay, range, [&mut self.p.data], |row, [p]| {
-                for i in 0..row.len {
-                    let o = row.offset + i;
-                    p[o] = r[row.at + i] + beta * p[o];
-                }
-            });
         }
         Err(ViscousError {
             component: delta.c,
             iterations: MAX_ITERATIONS,
             reached: rr.sqrt() / norm_b,
         })
+    }
+
+    /// r = b − (I − αL)δ (δ's ghosts filled), and the first direction p = r.
+    fn first_residual(&mut self, h: [f64; 3], alpha: f64, b: &[f64], delta: &Padded) {
+        let lay = delta.lay;
+        laplacian(delta, h, &mut self.q);
+        let (q, d) = (&self.q, &delta.data);
+        rows::each(
+            &lay,
+            lay.unknown_box(),
+            [&mut self.r, &mut self.p.data],
+            |row, [r, p]| {
+                for i in 0..row.len {
+                    let (at, o) = (row.at + i, row.offset + i);
+                    r[o] = b[at] - (d[at] - alpha * q[at]);
+                    p[o] = r[o];
+                }
+            },
+        );
+    }
+
+    /// δ ← δ + step·p and r ← r − step·q.
+    fn advance(&mut self, step: f64, delta: &mut Padded) {
+        let lay = delta.lay;
+        let (p, q) = (&self.p.data, &self.q);
+        rows::each(
+            &lay,
+            lay.unknown_box(),
+            [&mut delta.data, &mut self.r],
+            |row, [d, r]| {
+                for i in 0..row.len {
+                    let (at, o) = (row.at + i, row.offset + i);
+                    d[o] += step * p[at];
+                    r[o] -= step * q[at];
+                }
+            },
+        );
+    }
+
+    /// p ← r + β·p.
+    fn next_direction(&mut self, beta: f64, lay: Layout) {
+        let r = &self.r;
+        rows::each(&lay, lay.unknown_box(), [&mut self.p.data], |row, [p]| {
+            for i in 0..row.len {
+                let o = row.offset + i;
+                p[o] = r[row.at + i] + beta * p[o];
+            }
+        });
     }
 
     /// q = (I − αL)p on this rank's unknowns (`axes`: each axis's stride and
@@ -183,4 +191,12 @@ impl Helmholtz {
             }
         })
     }
+}
+
+/// This rank's x·y over the box `range`, on one thread in the grid's order
+/// (`rows.rs` says why).
+fn dot(lay: &Layout, range: [[isize; 2]; 3], x: &[f64], y: &[f64]) -> f64 {
+    let mut s = 0.0;
+    lay.for_box(range, |_, p| s += x[p] * y[p]);
+    s
 }
