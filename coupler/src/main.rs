@@ -77,9 +77,9 @@ enum BenchCmd {
         repeats: usize,
     },
     /// The C-9 on the original code's grid (60 × 60 × 120 cells, 11 173
-    /// canopy vertices): seconds per window, explicit and implicit, split
-    /// into the solvers, acceleration, checkpoints and waiting; FronTier++'s
-    /// step beside them.
+    /// canopy vertices): seconds per window, explicit, implicit and
+    /// parallel-implicit, split into the solvers, acceleration, checkpoints
+    /// and waiting; FronTier++'s step beside them.
     Parachute {
         /// The scene (default scenarios/c9-frontier-grid.toml).
         #[arg(long, default_value = "scenarios/c9-frontier-grid.toml")]

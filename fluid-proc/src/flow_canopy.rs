@@ -69,6 +69,11 @@ impl FlowCanopy {
         self.triangles.is_none()
     }
 
+    /// How many triangles the canopy has (0 before they are read).
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.as_ref().map_or(0, Vec::len)
+    }
+
     pub fn set_triangles(&mut self, field: &[f64]) {
         self.triangles = Some(triangles_from_field(field));
     }

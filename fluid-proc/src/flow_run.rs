@@ -284,6 +284,9 @@ fn run(
             }
             (_, Done::Checkpoint) => p.done(Vec::new())?,
             (_, Done::Monitors(mut m, probed)) => {
+                if p.publishes_at_start() {
+                    io.answer_at_start(p)?;
+                }
                 m.extend(io.monitors(flow, None));
                 m.extend(io.probe_monitors(flow, probed));
                 p.done(m)?
@@ -462,6 +465,24 @@ impl Interface {
             p.write_field(CANOPY_PRESSURE, jumps.len(), |out| {
                 out.copy_from_slice(jumps)
             })?;
+        }
+        Ok(())
+    }
+
+    /// Answers before the first window, which the parallel scheme's
+    /// readers take their first try from: no load on the bodies and no
+    /// jump across the canopy, as the air has not yet pushed (preCICE's
+    /// zero initial data).
+    fn answer_at_start(&mut self, p: &mut Participant) -> Result<(), Error> {
+        if p.is_connected(BODY_LOADS) {
+            p.write_field(BODY_LOADS, self.loads.len(), |out| out.fill(0.0))?;
+        }
+        if p.is_connected(CANOPY_PRESSURE) {
+            if self.canopy.needs_triangles() {
+                self.canopy.set_triangles(&p.read_field(CANOPY_TRIANGLES)?);
+            }
+            let n = self.canopy.triangle_count();
+            p.write_field(CANOPY_PRESSURE, n, |out| out.fill(0.0))?;
         }
         Ok(())
     }

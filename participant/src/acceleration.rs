@@ -10,7 +10,8 @@
 //! IQN-ILS (`iqn_ils.rs`) replaces ω by a least-squares model of the
 //! inverse Jacobian built from the tries of this and the last windows.
 
-use crate::iqn_ils::{Columns, Limits};
+use crate::iqn_ils::{Columns, Limits, Scale};
+use crate::joint::Share;
 use crate::scheme::Acceleration;
 
 /// The writer's iteration state over one window.
@@ -31,6 +32,19 @@ pub struct Accelerator {
     window: u64,
     /// Columns the last relaxation used (0: a plain ω).
     pub columns_used: usize,
+    /// Parallel scheme: each field's weight in the joint inner product,
+    /// set at a window's first try.
+    #[serde(default)]
+    scale: Scale,
+    /// Parallel scheme: this try's answer and residual between
+    /// [`Accelerator::share`] and [`Accelerator::relax_joint`].
+    #[serde(skip)]
+    pending: Option<(Vec<f64>, Vec<f64>)>,
+    /// The writer's output index and length of each field in `sent`, in
+    /// order: what a restarted run sends again of the fields its solver
+    /// does not write at `Resume`.
+    #[serde(default)]
+    layout: Vec<(usize, usize)>,
 }
 
 /// Norms of one field's residual and value, ‖r‖₂ and ‖x‖₂.
@@ -52,7 +66,27 @@ impl Accelerator {
             columns: Columns::default(),
             window: 0,
             columns_used: 0,
+            scale: Scale::default(),
+            pending: None,
+            layout: Vec::new(),
         }
+    }
+
+    /// The output index and length of each field sent, in order.
+    pub fn set_layout(&mut self, layout: Vec<(usize, usize)>) {
+        self.layout = layout;
+    }
+
+    /// The part of the value last sent that is output `output`'s.
+    pub fn sent_part(&self, output: usize) -> Option<&[f64]> {
+        let mut at = 0;
+        for &(i, len) in &self.layout {
+            if i == output {
+                return self.sent.get(at..at + len);
+            }
+            at += len;
+        }
+        None
     }
 
     /// A new window begins: its first value is relaxed with the initial ω,
@@ -133,15 +167,8 @@ impl Accelerator {
             max_columns,
             filter,
         };
-        let x: Vec<f64> = values.iter().flat_map(|v| v.iter().copied()).collect();
-        let r: Vec<f64> = x.iter().zip(&self.sent).map(|(x, s)| x - s).collect();
-        self.columns.fit(x.len());
-        if self.k > 0 && self.last_answer.len() == x.len() {
-            let dr = r.iter().zip(&self.last_residual).map(|(a, b)| a - b);
-            let dx = x.iter().zip(&self.last_answer).map(|(a, b)| a - b);
-            self.columns
-                .push(dr.collect(), dx.collect(), self.window, limits);
-        }
+        let (x, r) = self.answer(values);
+        self.push_column(&x, &r, limits);
         let next: Vec<f64> = match self.columns.step(&r, filter) {
             Some((step, used)) => {
                 self.columns_used = used;
@@ -149,13 +176,42 @@ impl Accelerator {
             }
             None => {
                 self.columns_used = 0;
-                self.sent
-                    .iter()
-                    .zip(&r)
-                    .map(|(s, r)| s + initial * r)
-                    .collect()
+                self.plain_step(&r, initial)
             }
         };
+        self.send_next(values, next, x, r);
+    }
+
+    /// x_k, the fields end to end, and r_k = x_k − x̃_k.
+    fn answer(&self, values: &[&mut [f64]]) -> (Vec<f64>, Vec<f64>) {
+        let x: Vec<f64> = values.iter().flat_map(|v| v.iter().copied()).collect();
+        let r: Vec<f64> = x.iter().zip(&self.sent).map(|(x, s)| x - s).collect();
+        (x, r)
+    }
+
+    /// IQN-ILS: from a window's second try on, the column (ΔR, ΔX).
+    fn push_column(&mut self, x: &[f64], r: &[f64], limits: Limits) {
+        self.columns.fit(x.len());
+        if self.k > 0 && self.last_answer.len() == x.len() {
+            let dr = r.iter().zip(&self.last_residual).map(|(a, b)| a - b);
+            let dx = x.iter().zip(&self.last_answer).map(|(a, b)| a - b);
+            self.columns
+                .push(dr.collect(), dx.collect(), self.window, limits);
+        }
+    }
+
+    /// x̃_k + ω r_k.
+    fn plain_step(&self, r: &[f64], omega: f64) -> Vec<f64> {
+        self.sent
+            .iter()
+            .zip(r)
+            .map(|(s, r)| s + omega * r)
+            .collect()
+    }
+
+    /// Write `next` into `values` and remember it as sent, with the try's
+    /// answer and residual.
+    fn send_next(&mut self, values: &mut [&mut [f64]], next: Vec<f64>, x: Vec<f64>, r: Vec<f64>) {
         let mut at = 0;
         for v in values.iter_mut() {
             v.copy_from_slice(&next[at..at + v.len()]);
@@ -164,6 +220,82 @@ impl Accelerator {
         self.sent = next;
         (self.last_residual, self.last_answer) = (r, x);
         self.k += 1;
+    }
+
+    /// Parallel scheme, a try's first half: this writer's share of the
+    /// joint relaxation of answers `values` (`joint.rs`), in the inner
+    /// product scaled by the window's first answer; the answer is kept
+    /// for [`Accelerator::relax_joint`].
+    pub fn share(&mut self, values: &[&mut [f64]], converged: bool, comparable: bool) -> Share {
+        let (x, r) = self.answer(values);
+        if self.k == 0 {
+            self.scale = Scale::of(values);
+        }
+        let mut share = Share {
+            converged,
+            comparable,
+            ..Share::default()
+        };
+        match self.kind {
+            Acceleration::IqnIls {
+                reused_windows,
+                max_columns,
+                filter,
+                ..
+            } => {
+                let limits = Limits {
+                    reused_windows,
+                    max_columns,
+                    filter,
+                };
+                self.push_column(&x, &r, limits);
+                let m = self.columns.count();
+                share.columns = m;
+                share.gram = self.columns.gram(m, &self.scale);
+                share.against = self.columns.against(m, &r, &self.scale);
+            }
+            Acceleration::Aitken { .. } if self.k > 0 && self.last_residual.len() == r.len() => {
+                let d: Vec<f64> = r
+                    .iter()
+                    .zip(&self.last_residual)
+                    .map(|(a, b)| a - b)
+                    .collect();
+                share.num = self.scale.dot(&self.last_residual, &d);
+                share.den = self.scale.dot(&d, &d);
+            }
+            _ => {}
+        }
+        self.pending = Some((x, r));
+        share
+    }
+
+    /// Parallel scheme, a try's second half: relax `values` by the sum of
+    /// every writer's share, `total` (the same on every writer), and
+    /// remember them as sent.
+    pub fn relax_joint(&mut self, values: &mut [&mut [f64]], total: &Share) {
+        let (x, r) = self.pending.take().expect("a share before its relaxation");
+        self.columns_used = 0;
+        let next = match self.kind {
+            Acceleration::Constant { omega } => self.plain_step(&r, omega),
+            Acceleration::Aitken { initial } => {
+                self.omega = match self.k {
+                    0 => initial,
+                    _ => total.aitken(self.omega),
+                };
+                self.plain_step(&r, self.omega)
+            }
+            Acceleration::IqnIls {
+                initial, filter, ..
+            } => match total.coefficients(filter) {
+                Some((kept, c)) => {
+                    self.columns_used = kept.len();
+                    let step = self.columns.combine(&kept, &c);
+                    x.iter().zip(&step).map(|(x, s)| x + s).collect()
+                }
+                None => self.plain_step(&r, initial),
+            },
+        };
+        self.send_next(values, next, x, r);
     }
 
     /// This try's ω; keeps r_k for the next (Aitken).

@@ -64,6 +64,17 @@ pub enum ExchangeError {
          e.g. impulse_substeps = 1)"
     )]
     AcceleratedMidWindow(String),
+    #[error(
+        "field `{0}` was not published at Initialize: under scheme = \"parallel-implicit\" \
+         every participant takes a window's first try from the others' values before it, \
+         so each publishes at Initialize what it writes at window ends"
+    )]
+    NotPublishedAtStart(String),
+    #[error(
+        "`{0}` sent {1} values as its share of the joint relaxation, which do not make one \
+         (a participant built on another version of the coupling library?)"
+    )]
+    MalformedShare(String, usize),
     #[error("run checkpoint: {0}")]
     Checkpoint(String),
     #[error("the coupler (process {0}) is gone: the run was stopped")]

@@ -1,36 +1,59 @@
 //! A participant's side of implicit coupling: the accelerated fields it
 //! writes are held in their loaned shared memory until its try at the
 //! window is done, then measured against what it sent before, relaxed in
-//! place unless they converged (`acceleration.rs`) and sent; its word on
-//! the try goes to the others (`verdict.rs`).
+//! place unless they converged (`acceleration.rs`; under the parallel
+//! scheme together with the other writers', `joint.rs`) and sent; its word
+//! on the try goes to the others (`verdict.rs`).
 
 use crate::acceleration::{Accelerator, Norms};
 use crate::channel::FieldLoan;
 use crate::declaration::Declaration;
 use crate::error::ExchangeError;
 use crate::fields::Outputs;
+use crate::joint::Share;
 use crate::monitors::Monitor;
 use crate::presence::Presence;
 use crate::scheme::{Implicit, Measured, COLUMNS, RESIDUAL, TRIES};
 
-/// `declaration` with the implicit monitors of a participant that is the
-/// run's `first` or not.
-pub fn with_monitors(declaration: Declaration, settings: &Implicit, first: bool) -> Declaration {
+/// The field on which participant `name` sends its share of a parallel
+/// scheme's joint relaxation to the other writers (`joint.rs`).
+pub fn share_field(name: &str) -> String {
+    format!("implicit.share.{name}")
+}
+
+/// `declaration` of participant `me` of the run's `names`, with what
+/// implicit coupling adds: its monitors, and under the parallel scheme,
+/// when it writes an accelerated field, its share of the joint relaxation
+/// written and the other writers' read.
+pub fn with_implicit(
+    declaration: Declaration,
+    settings: &Implicit,
+    me: &str,
+    names: &[String],
+) -> Declaration {
     let written: Vec<String> = settings
         .fields
         .iter()
         .filter(|m| declaration.writes.iter().any(|w| w.name == m.field))
         .map(|m| format!("{RESIDUAL}{}", m.field))
         .collect();
-    let mut names = Vec::new();
-    if first {
-        names.push(TRIES.to_string());
+    let mut names_ = Vec::new();
+    if names.first().is_some_and(|n| n == me) {
+        names_.push(TRIES.to_string());
     }
-    if !written.is_empty() {
-        names.extend(written);
-        names.push(COLUMNS.to_string());
+    let writer = !written.is_empty();
+    if writer {
+        names_.extend(written);
+        names_.push(COLUMNS.to_string());
     }
-    declaration.monitors(names)
+    let mut declaration = declaration.monitors(names_);
+    if settings.parallel && writer {
+        declaration = declaration.writes_items_of(&share_field(me), 1);
+        for other in names.iter().filter(|n| *n != me) {
+            declaration = declaration.reads_if_written(&share_field(other));
+        }
+    }
+    declaration
 }
 
 pub struct Tries {
@@ -146,11 +169,32 @@ impl Tries {
 
     /// Send the held values and leave the acceleration state as it is: a
     /// restarted run's fields, as they were sent before its checkpoint.
+    /// Under the parallel scheme the accelerated fields that the solver
+    /// did not write again at `Resume` (a fluid's answers, computed at
+    /// window ends only) go out as the acceleration state kept them.
     pub fn send_held(
         &mut self,
         outputs: &mut Outputs,
         presence: &Presence,
     ) -> Result<(), ExchangeError> {
+        let unwritten: Vec<usize> = match self.settings.parallel {
+            true => self
+                .accelerated
+                .iter()
+                .map(|(i, _)| *i)
+                .filter(|i| !self.held.iter().any(|(h, _)| h == i))
+                .collect(),
+            false => Vec::new(),
+        };
+        for i in unwritten {
+            let Some(part) = self.accelerator.sent_part(i) else {
+                continue;
+            };
+            let part = part.to_vec();
+            if let Some((sample, _)) = outputs.fill(i, part.len(), |o| o.copy_from_slice(&part))? {
+                self.held.push((i, sample));
+            }
+        }
         self.held.sort_by_key(|(i, _)| *i);
         self.send(outputs, presence)
     }
@@ -160,13 +204,23 @@ impl Tries {
         self.accelerator.start_window();
     }
 
-    /// Send the held values as they are (the initial values).
+    /// Send the held values as they are (the initial values). Under the
+    /// parallel scheme every accelerated field read in this run must be
+    /// among them.
     pub fn send_as_is(
         &mut self,
         outputs: &mut Outputs,
         presence: &Presence,
     ) -> Result<(), ExchangeError> {
+        let missing = self
+            .accelerated
+            .iter()
+            .find(|(i, _)| outputs.has_readers(*i) && !self.held.iter().any(|(h, _)| h == i));
+        if let (true, Some((_, m))) = (self.settings.parallel, missing) {
+            return Err(ExchangeError::NotPublishedAtStart(m.field.clone()));
+        }
         self.held.sort_by_key(|(i, _)| *i);
+        self.keep_layout();
         let mut values: Vec<&mut [f64]> =
             self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
         self.accelerator.sent_as_is(&mut values);
@@ -181,7 +235,55 @@ impl Tries {
         outputs: &mut Outputs,
         presence: &Presence,
     ) -> Result<bool, ExchangeError> {
+        let comparable = self.measure();
+        let mut values: Vec<&mut [f64]> =
+            self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
+        match self.converged || !comparable {
+            true => self.accelerator.sent_as_is(&mut values),
+            false => {
+                self.accelerator.relax(&mut values);
+            }
+        }
+        self.send(outputs, presence)?;
+        Ok(self.converged)
+    }
+
+    /// Parallel scheme, the try is over: measure the held values and
+    /// return this writer's share of their joint relaxation; with nothing
+    /// held (no field of it read in this run), a share that counts for
+    /// nothing.
+    pub fn share_try(&mut self) -> Share {
+        let comparable = self.measure();
+        let values: Vec<&mut [f64]> = self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
+        match values.is_empty() {
+            true => Share::idle(),
+            false => self.accelerator.share(&values, self.converged, comparable),
+        }
+    }
+
+    /// Parallel scheme: relax the held values by `total`, the sum of every
+    /// writer's share, unless every writer's fields converged; send them.
+    pub fn close_joint(
+        &mut self,
+        total: &Share,
+        outputs: &mut Outputs,
+        presence: &Presence,
+    ) -> Result<(), ExchangeError> {
+        let mut values: Vec<&mut [f64]> =
+            self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
+        match total.converged || !total.comparable {
+            true => self.accelerator.sent_as_is(&mut values),
+            false => self.accelerator.relax_joint(&mut values, total),
+        }
+        self.send(outputs, presence)
+    }
+
+    /// Measure the held values (in output order) against those sent
+    /// before: `last` and `converged`. Returns whether they were
+    /// comparable (a value of the same layout was sent before).
+    fn measure(&mut self) -> bool {
         self.held.sort_by_key(|(i, _)| *i);
+        self.keep_layout();
         let values: Vec<&mut [f64]> = self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
         let total: usize = values.iter().map(|v| v.len()).sum();
         let comparable = self.accelerator.sent_len() == total;
@@ -202,17 +304,14 @@ impl Tries {
             converged &= m.converged(n.residual, n.value);
             self.last.push((m.field.clone(), *n));
         }
-        let mut values: Vec<&mut [f64]> =
-            self.held.iter_mut().map(|(_, s)| s.payload_mut()).collect();
-        match converged || !comparable {
-            true => self.accelerator.sent_as_is(&mut values),
-            false => {
-                self.accelerator.relax(&mut values);
-            }
-        }
         self.converged = converged;
-        self.send(outputs, presence)?;
-        Ok(converged)
+        comparable
+    }
+
+    /// The held fields' outputs and lengths, in the order they are sent.
+    fn keep_layout(&mut self) {
+        let layout = self.held.iter().map(|(i, s)| (*i, s.payload().len()));
+        self.accelerator.set_layout(layout.collect());
     }
 
     fn send(&mut self, outputs: &mut Outputs, presence: &Presence) -> Result<(), ExchangeError> {

@@ -75,13 +75,42 @@ impl Columns {
         let qr = v.qr();
         let rhs = qr.q().transpose() * DVector::from_iterator(n, r.iter().map(|x| -x));
         let c = qr.r().solve_upper_triangular(&rhs)?;
-        let mut step = vec![0.0; n];
-        for (j, &col) in kept.iter().enumerate() {
+        Some((self.combine(&kept, c.as_slice()), kept.len()))
+    }
+
+    /// How many columns are kept.
+    pub fn count(&self) -> usize {
+        self.v.len()
+    }
+
+    /// W c over the columns `kept` (indices, newest first), c[j] the
+    /// weight of column kept[j].
+    pub fn combine(&self, kept: &[usize], c: &[f64]) -> Vec<f64> {
+        let mut step = vec![0.0; self.w.first().map_or(0, Vec::len)];
+        for (&col, c) in kept.iter().zip(c) {
             for (s, w) in step.iter_mut().zip(&self.w[col]) {
-                *s += c[j] * w;
+                *s += c * w;
             }
         }
-        Some((step, kept.len()))
+        step
+    }
+
+    /// The Gram matrix VᵀSV of the first `m` columns in the scaled inner
+    /// product `scale` (`Scale`), row-major m×m.
+    pub fn gram(&self, m: usize, scale: &Scale) -> Vec<f64> {
+        let mut g = vec![0.0; m * m];
+        for i in 0..m {
+            for j in 0..=i {
+                let d = scale.dot(&self.v[i], &self.v[j]);
+                (g[i * m + j], g[j * m + i]) = (d, d);
+            }
+        }
+        g
+    }
+
+    /// VᵀS r over the first `m` columns.
+    pub fn against(&self, m: usize, r: &[f64], scale: &Scale) -> Vec<f64> {
+        self.v[..m].iter().map(|v| scale.dot(v, r)).collect()
     }
 
     /// The columns the QR2 filter keeps, newest first: modified Gram–Schmidt
@@ -110,6 +139,46 @@ impl Columns {
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// A scaled inner product over fields laid end to end: each field's part
+/// of a dot product weighed by its own factor, so that fields in other
+/// units (pressures in Pa, positions in m) count alike in one
+/// least-squares problem (preCICE's pre-scaling of a parallel scheme).
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Scale {
+    /// Each field's length and weight, in order.
+    pub parts: Vec<(usize, f64)>,
+}
+
+impl Scale {
+    /// Weights 1/‖x_f‖² from `values`' fields (1 for a zero field), so
+    /// that each field of the value has unit norm.
+    pub fn of(values: &[&mut [f64]]) -> Scale {
+        let parts = values
+            .iter()
+            .map(|v| {
+                let x2 = dot(v, v);
+                (v.len(), if x2 > 0.0 { 1.0 / x2 } else { 1.0 })
+            })
+            .collect();
+        Scale { parts }
+    }
+
+    /// Σ_f weight_f · a_f·b_f; a plain dot product where the lengths do
+    /// not cover `a` (a value of another layout).
+    pub fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        if self.parts.iter().map(|p| p.0).sum::<usize>() != a.len() {
+            return dot(a, b);
+        }
+        let mut at = 0;
+        let mut sum = 0.0;
+        for &(len, w) in &self.parts {
+            sum += w * dot(&a[at..at + len], &b[at..at + len]);
+            at += len;
+        }
+        sum
+    }
 }
 
 #[cfg(test)]

@@ -144,9 +144,10 @@ impl Joining {
     /// Returns the running participant, whose first command is `Initialize`
     /// (`Resume` in a restarted run).
     pub fn declare(self, declaration: Declaration) -> Result<Participant, JoinError> {
-        let first = self.setup.participants.first() == Some(&self.name);
         let declaration = match self.setup.scheme.implicit() {
-            Some(i) => crate::implicit::with_monitors(declaration, i, first),
+            Some(i) => {
+                crate::implicit::with_implicit(declaration, i, &self.name, &self.setup.participants)
+            }
             None => declaration,
         };
         if let Some(problem) = declaration.problem() {

@@ -26,6 +26,7 @@ mod fields;
 mod implicit;
 mod iqn_ils;
 mod joining;
+mod joint;
 mod load;
 mod matching;
 mod monitors;

@@ -52,6 +52,7 @@ use iceoryx2::port::notifier::Notifier;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+mod joint_try;
 mod run_checkpoint;
 
 /// A received field, read in place in shared memory. Derefs to `[f64]`.
@@ -168,6 +169,14 @@ impl Participant {
 
     pub fn timing(&self) -> &Timing {
         &self.setup.timing
+    }
+
+    /// Whether the run's scheme wants, at `Initialize`, every field this
+    /// participant writes at window ends (the parallel scheme: each
+    /// participant takes a window's first try from the others' values
+    /// before it, so the first window needs values from the start).
+    pub fn publishes_at_start(&self) -> bool {
+        self.setup.scheme.implicit().is_some_and(|i| i.parallel)
     }
 
     /// Whether a participant of this name takes part in the run.
@@ -360,6 +369,14 @@ impl Participant {
     /// Every value written is read once, in order.
     pub fn read_field(&mut self, field: &str) -> Result<FieldView, ExchangeError> {
         let entered = self.clock.enter();
+        let (view, waited) = self.receive(field)?;
+        self.clock.leave(entered, waited, Duration::ZERO);
+        Ok(view)
+    }
+
+    /// The next value of `field` and how long it was waited for, counted in
+    /// the statistics but for the wait itself.
+    fn receive(&mut self, field: &str) -> Result<(FieldView, Duration), ExchangeError> {
         let i = self
             .inputs
             .find(field)
@@ -417,8 +434,7 @@ impl Participant {
             let late = crate::channel::monotonic_ns().saturating_sub(sent);
             self.clock.stats.latency_s += late as f64 * 1e-9;
         }
-        self.clock.leave(entered, waited, Duration::ZERO);
-        Ok(FieldView { sample: got.value })
+        Ok((FieldView { sample: got.value }, waited))
     }
 
     /// Report the last command done, with the newest values of any of the
@@ -435,6 +451,7 @@ impl Participant {
         self.rows
             .update(&monitors)
             .map_err(ExchangeError::UndeclaredMonitor)?;
+        let mut waited = Duration::ZERO;
         let closes_row = match (command, self.tries.as_mut()) {
             (Command::Initialize, Some(tries)) => {
                 tries.send_as_is(&mut self.outputs, &self.waiter.presence)?;
@@ -450,14 +467,8 @@ impl Participant {
                 false
             }
             // The row closes once the verdict lets the window go on.
-            (Command::Advance(a), Some(tries)) if a.window_end => {
-                let presence = &self.waiter.presence;
-                let relaxing = Instant::now();
-                let converged = tries.close_try(&mut self.outputs, presence)?;
-                self.clock.stats.accelerate_s += relaxing.elapsed().as_secs_f64();
-                let word = verdict::word(a.window, a.iteration, converged);
-                presence.own().post_word(word, tries.worst());
-                presence.wake_all_sleeping()?;
+            (Command::Advance(a), Some(_)) if a.window_end => {
+                waited = self.close_try(a.window, a.iteration)?;
                 false
             }
             (Command::Resume { .. }, Some(tries)) => {
@@ -476,7 +487,7 @@ impl Participant {
             self.rows.push_row();
             self.send_rows(false)?;
         }
-        self.clock.leave(entered, Duration::ZERO, Duration::ZERO);
+        self.clock.leave(entered, waited, Duration::ZERO);
         Ok(())
     }
 

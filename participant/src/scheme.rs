@@ -52,6 +52,12 @@ pub struct Implicit {
     /// On reaching `max_iterations` unconverged: go on with a warning
     /// rather than stop the run.
     pub go_on_at_max: bool,
+    /// Parallel implicit: every participant computes each try at once from
+    /// the others' last values (so each publishes its window-end fields
+    /// at `Initialize` too), and the writers relax their fields together,
+    /// as one vector (`joint.rs`).
+    #[serde(default)]
+    pub parallel: bool,
 }
 
 impl Implicit {

@@ -118,6 +118,7 @@ fn implicit(acceleration: Acceleration, max_iterations: u32) -> Scheme {
         min_iterations: 1,
         max_iterations,
         go_on_at_max: false,
+        parallel: false,
     })
 }
 

@@ -9,6 +9,10 @@ use serde::{Deserialize, Serialize};
 /// a window's start, written by the structure and the rigid bodies at its
 /// end.
 pub const DEFAULT_ACCELERATED: [&str; 3] = ["canopy.positions", "canopy.velocities", "body.states"];
+/// Accelerated by default too under the parallel scheme, where the
+/// structure and the rigid bodies read them at a window's start from the
+/// fluid's last try: the fluid's answers.
+pub const PARALLEL_ACCELERATED: [&str; 2] = ["canopy.pressure", "body.loads"];
 /// Accelerated by default too when the structure and the bodies iterate
 /// each window (`CouplingSection::bodies_iterate`): the attachment points
 /// the structure reads at a window's start, written at its end.
@@ -42,7 +46,22 @@ pub const MAX_ITERATIONS: f64 = 10_000.0;
 pub enum SchemeName {
     #[default]
     Explicit,
+    /// Serial implicit: each window again until the interface converges,
+    /// the fluid first, then the structure and the bodies.
     Implicit,
+    /// Parallel implicit (Mehl, Uekermann et al. 2016): each try of a
+    /// window computed by every participant at once, each from the
+    /// others' last values, the quasi-Newton update acting on all the
+    /// exchanged fields together.
+    #[serde(rename = "parallel-implicit")]
+    ParallelImplicit,
+}
+
+impl SchemeName {
+    /// Whether windows are taken again until the interface converges.
+    pub fn is_implicit(self) -> bool {
+        self != SchemeName::Explicit
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -158,14 +177,18 @@ impl Default for ImplicitSection {
 
 impl ImplicitSection {
     /// The accelerated fields: `accelerate`, else [`DEFAULT_ACCELERATED`],
-    /// with [`BODIES_ITERATE_ACCELERATED`] when `bodies_iterate`.
-    pub fn accelerated(&self, bodies_iterate: bool) -> Vec<String> {
+    /// with [`BODIES_ITERATE_ACCELERATED`] when `bodies_iterate` and
+    /// [`PARALLEL_ACCELERATED`] when `parallel`.
+    pub fn accelerated(&self, bodies_iterate: bool, parallel: bool) -> Vec<String> {
         if let Some(given) = &self.accelerate {
             return given.clone();
         }
         let mut fields: Vec<String> = DEFAULT_ACCELERATED.iter().map(|s| s.to_string()).collect();
         if bodies_iterate {
             fields.push(BODIES_ITERATE_ACCELERATED.to_string());
+        }
+        if parallel {
+            fields.extend(PARALLEL_ACCELERATED.iter().map(|s| s.to_string()));
         }
         fields
     }
@@ -181,8 +204,8 @@ impl ImplicitSection {
         }
     }
 
-    pub fn check(&self, c: &mut Checker, bodies_iterate: bool) {
-        let accelerated = self.accelerated(bodies_iterate);
+    pub fn check(&self, c: &mut Checker, bodies_iterate: bool, parallel: bool) {
+        let accelerated = self.accelerated(bodies_iterate, parallel);
         let at = |key: &'static str| ["coupling", "implicit", key];
         let w = self.relaxation;
         if !(w.is_finite() && w > 0.0 && w <= 2.0) {
@@ -302,12 +325,15 @@ mod tests {
     #[test]
     fn attachment_state_joins_the_default_when_the_bodies_iterate() {
         let mut s = ImplicitSection::default();
-        assert_eq!(s.accelerated(false), DEFAULT_ACCELERATED);
+        assert_eq!(s.accelerated(false, false), DEFAULT_ACCELERATED);
         assert_eq!(
-            s.accelerated(true).last().map(String::as_str),
+            s.accelerated(true, false).last().map(String::as_str),
             Some(BODIES_ITERATE_ACCELERATED)
         );
+        // The parallel scheme relaxes the fluid's answers too.
+        let parallel = s.accelerated(false, true);
+        assert_eq!(parallel[DEFAULT_ACCELERATED.len()..], PARALLEL_ACCELERATED);
         s.accelerate = Some(vec!["body.states".into()]);
-        assert_eq!(s.accelerated(true), ["body.states"]);
+        assert_eq!(s.accelerated(true, true), ["body.states"]);
     }
 }

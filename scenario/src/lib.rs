@@ -81,8 +81,9 @@ pub struct CouplingSection {
     /// Seconds a participant may take to answer one command before the run is failed.
     #[serde(default = "default_timeout")]
     pub timeout: f64,
-    /// `explicit` (each window once) or `implicit` (each window again from
-    /// its checkpoint until the interface converges).
+    /// `explicit` (each window once), `implicit` (each window again from
+    /// its checkpoint until the interface converges, the participants in
+    /// turn) or `parallel-implicit` (the same, the participants at once).
     #[serde(default)]
     pub scheme: SchemeName,
     /// The implicit scheme's settings; defaults when absent.
@@ -93,7 +94,12 @@ pub struct CouplingSection {
 impl CouplingSection {
     /// The implicit scheme's settings, when the scheme is implicit.
     pub fn implicit_settings(&self) -> Option<ImplicitSection> {
-        (self.scheme == SchemeName::Implicit).then(|| self.implicit.clone().unwrap_or_default())
+        (self.scheme.is_implicit()).then(|| self.implicit.clone().unwrap_or_default())
+    }
+
+    /// Whether the participants compute each try of a window at once.
+    pub fn parallel(&self) -> bool {
+        self.scheme == SchemeName::ParallelImplicit
     }
 
     /// Whether the structure and the rigid bodies iterate each window
@@ -108,7 +114,7 @@ impl CouplingSection {
     /// window's first value of the body is its start, as in an explicit
     /// window, and the body takes each impulse as a kick.
     pub fn bodies_iterate(&self) -> bool {
-        self.scheme == SchemeName::Implicit && self.impulse_substeps == 1
+        self.scheme.is_implicit() && self.impulse_substeps == 1
     }
 
     /// The structure step Δt_s = Δt_f / n_s [s].
@@ -355,10 +361,10 @@ impl Scenario {
             (Some(_), SchemeName::Explicit) => c.problem(
                 &["coupling", "implicit"],
                 "[coupling.implicit] is given but scheme is \"explicit\": set \
-                 scheme = \"implicit\" or remove the table"
+                 scheme = \"implicit\" (or \"parallel-implicit\") or remove the table"
                     .into(),
             ),
-            (Some(i), SchemeName::Implicit) => i.check(c, k.bodies_iterate()),
+            (Some(i), _) => i.check(c, k.bodies_iterate(), k.parallel()),
             (None, _) => {}
         }
     }

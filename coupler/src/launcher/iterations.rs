@@ -57,10 +57,29 @@ impl Iterations {
                 })
             })
             .collect();
-        (!rows.is_empty()).then(|| Iterations {
-            fields: residuals.into_iter().map(|(_, f)| f).collect(),
-            rows,
+        (!rows.is_empty()).then(|| {
+            let mut it = Iterations {
+                fields: residuals.into_iter().map(|(_, f)| f).collect(),
+                rows,
+            };
+            it.drop_unread_fields();
+            it
         })
+    }
+
+    /// Leave out the fields whose residual is never measured: written by
+    /// a participant but read by none in this run (the fluid's
+    /// `body.loads` without rigid bodies).
+    fn drop_unread_fields(&mut self) {
+        let measured: Vec<bool> = (0..self.fields.len())
+            .map(|f| self.rows.iter().any(|r| !r.residuals[f].is_nan()))
+            .collect();
+        let mut f = 0;
+        self.fields.retain(|_| (measured[f], f += 1).0);
+        for r in &mut self.rows {
+            let mut f = 0;
+            r.residuals.retain(|_| (measured[f], f += 1).0);
+        }
     }
 
     pub fn mean(&self) -> f64 {

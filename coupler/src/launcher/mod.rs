@@ -230,7 +230,7 @@ pub fn scheme(s: &Scenario) -> Scheme {
     };
     Scheme::Implicit(Implicit {
         fields: i
-            .accelerated(s.coupling.bodies_iterate())
+            .accelerated(s.coupling.bodies_iterate(), s.coupling.parallel())
             .iter()
             .map(|f| {
                 let (relative, absolute) = i.limits(f);
@@ -258,6 +258,7 @@ pub fn scheme(s: &Scenario) -> Scheme {
         min_iterations: i.min_iterations,
         max_iterations: i.max_iterations,
         go_on_at_max: i.on_max == OnMax::GoOn,
+        parallel: s.coupling.parallel(),
     })
 }
 

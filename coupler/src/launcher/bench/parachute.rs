@@ -6,7 +6,9 @@
 //!
 //! - explicit coupling with FronTier++'s heavier fabric (0.2 kg/m², its
 //!   C-9 input's mass per area), the like of the original code's step;
-//! - the scene as shipped: implicit IQN-ILS coupling with 50 g/m² fabric.
+//! - the scene as shipped: implicit IQN-ILS coupling with 50 g/m² fabric;
+//! - the same with `scheme = "parallel-implicit"`: the fluid and the
+//!   structure compute each try at once.
 //!
 //! Per window it prints the coupled run's wall time (from the start signal
 //! to the end, the setup not counted) and where it went: each solver's own
@@ -79,9 +81,39 @@ impl Row {
     }
 }
 
-/// The scene's text changed into one variant: `windows` windows long,
-/// and explicit with FronTier++'s fabric when `explicit`.
-fn variant(text: &str, windows: u32, explicit: bool) -> Result<String, String> {
+/// The variants run, in order.
+#[derive(Clone, Copy, PartialEq)]
+enum Variant {
+    /// Explicit coupling with FronTier++'s fabric.
+    Explicit,
+    /// The scene as shipped.
+    Implicit,
+    /// The scene with the parallel implicit scheme.
+    Parallel,
+}
+
+impl Variant {
+    const ALL: [Variant; 3] = [Variant::Explicit, Variant::Implicit, Variant::Parallel];
+
+    fn title(self) -> &'static str {
+        match self {
+            Variant::Explicit => "explicit, fabric 0.2 kg/m²",
+            Variant::Implicit => "implicit IQN-ILS, fabric 50 g/m²",
+            Variant::Parallel => "parallel-implicit, fabric 50 g/m²",
+        }
+    }
+
+    fn file_tag(self) -> &'static str {
+        match self {
+            Variant::Explicit => "explicit",
+            Variant::Implicit => "implicit",
+            Variant::Parallel => "parallel",
+        }
+    }
+}
+
+/// The scene's text changed into `variant`, `windows` windows long.
+fn variant(text: &str, windows: u32, variant: Variant) -> Result<String, String> {
     let mut s: toml::Table = text.parse().map_err(|e| format!("cannot parse it: {e}"))?;
     let table = |s: &toml::Table, key: &str| -> Result<toml::Table, String> {
         let t = s.get(key).and_then(|v| v.as_table()).cloned();
@@ -93,7 +125,11 @@ fn variant(text: &str, windows: u32, explicit: bool) -> Result<String, String> {
     let start = run.get("start_time").and_then(|v| v.as_float());
     let end = start.unwrap_or(0.0) + windows as f64 * window;
     run.insert("end_time".into(), toml::Value::Float(end));
-    if explicit {
+    if variant == Variant::Parallel {
+        let scheme = toml::Value::String("parallel-implicit".into());
+        coupling.insert("scheme".into(), scheme);
+    }
+    if variant == Variant::Explicit {
         coupling.insert("scheme".into(), toml::Value::String("explicit".into()));
         coupling.remove("implicit");
         let fabric = s
@@ -111,12 +147,12 @@ fn variant(text: &str, windows: u32, explicit: bool) -> Result<String, String> {
 }
 
 /// Run one variant of `scene` for `windows` windows; its row.
-fn measure(exe: &Path, scene: &Path, windows: u32, explicit: bool) -> Result<Row, String> {
+fn measure(exe: &Path, scene: &Path, windows: u32, which: Variant) -> Result<Row, String> {
     let text = std::fs::read_to_string(scene).map_err(|e| format!("cannot read it: {e}"))?;
-    let name = if explicit { "explicit" } else { "implicit" };
+    let name = which.file_tag();
     // Beside the scene, so that its relative paths still hold.
     let path = scene.with_extension(format!("bench-{name}.toml"));
-    std::fs::write(&path, variant(&text, windows, explicit)?)
+    std::fs::write(&path, variant(&text, windows, which)?)
         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     let m = run_manifest(exe, &path);
     let _ = std::fs::remove_file(&path);
@@ -134,14 +170,10 @@ pub fn parachute(scene: &Path, windows: u32, frontier: Option<(&Path, &Path)>) -
             return 1;
         }
     };
-    let variants = [
-        (true, "explicit, fabric 0.2 kg/m²"),
-        (false, "implicit IQN-ILS, fabric 50 g/m²"),
-    ];
     let mut rows = Vec::new();
-    for (explicit, name) in variants {
-        match measure(&exe, scene, windows, explicit) {
-            Ok(r) => rows.push((name, r)),
+    for which in Variant::ALL {
+        match measure(&exe, scene, windows, which) {
+            Ok(r) => rows.push((which.title(), r)),
             Err(e) => {
                 eprintln!("error: {}: {e}", scene.display());
                 return 1;
