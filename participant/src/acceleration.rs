@@ -248,11 +248,11 @@ impl Accelerator {
                     max_columns,
                     filter,
                 };
+                self.columns.rescale(&self.scale);
                 self.push_column(&x, &r, limits);
-                let m = self.columns.count();
-                share.columns = m;
-                share.gram = self.columns.gram(m, &self.scale);
-                share.against = self.columns.against(m, &r, &self.scale);
+                share.columns = self.columns.count();
+                share.gram = self.columns.gram();
+                share.against = self.columns.against(&r);
             }
             Acceleration::Aitken { .. } if self.k > 0 && self.last_residual.len() == r.len() => {
                 let d: Vec<f64> = r

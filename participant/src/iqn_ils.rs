@@ -9,20 +9,36 @@
 //!
 //!   x̃_{k+1} = x_k + W c,  c = argmin ‖V c + r_k‖₂,
 //!
-//! the least-squares problem solved by a QR decomposition of V (nalgebra).
-//! Columns that are nearly dependent on newer ones are dropped first (the
-//! QR2 filter of Haelterman et al. 2016: a column whose part orthogonal to
-//! the newer kept ones is below `filter`·its norm), since they would make
-//! R ill-conditioned.
+//! the least-squares problem solved from the Gram matrix VᵀV, which is
+//! kept up to date as columns come and go (a new column costs one dot
+//! product with each kept one, n·m operations, where a QR decomposition
+//! of V at every try costs 2n·m²): its Cholesky factor over the kept
+//! columns is the R of V's QR decomposition (`joint.rs`,
+//! [`Share::coefficients`]). Columns that are nearly dependent on newer
+//! ones are dropped first (the QR2 filter of Haelterman et al. 2016: a
+//! column whose part orthogonal to the newer kept ones is below
+//! `filter`·its norm), since they would make R ill-conditioned. The
+//! filter bounds how nearly dependent the kept columns are, which is what
+//! keeps forming VᵀV (whose condition is R's squared) harmless here: the
+//! tests check the step against a QR decomposition of V, and the shipped
+//! implicit scenes take the tries they took with one (README, "At the
+//! original code's resolution").
 
-use nalgebra::{DMatrix, DVector};
+use crate::joint::Share;
 
-/// The columns kept, newest first, each with the window it came from.
+/// The columns kept, newest first, each with the window it came from, and
+/// their Gram matrix in the inner product `scale`.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Columns {
     v: Vec<Vec<f64>>,
     w: Vec<Vec<f64>>,
     windows: Vec<u64>,
+    /// gram[i][j] = v_i·S v_j, in step with `v` (empty in a checkpoint of
+    /// an older version: computed again when first needed).
+    #[serde(default)]
+    gram: Vec<Vec<f64>>,
+    #[serde(default)]
+    scale: Scale,
 }
 
 /// The settings of [`Columns::update`].
@@ -40,6 +56,14 @@ impl Columns {
     /// Keep the column (ΔR, ΔX) of `window`, newest first, and forget those
     /// older than the windows reused and beyond the most columns.
     pub fn push(&mut self, dr: Vec<f64>, dx: Vec<f64>, window: u64, limits: Limits) {
+        self.update_gram();
+        let row: Vec<f64> = std::iter::once(self.scale.dot(&dr, &dr))
+            .chain(self.v.iter().map(|v| self.scale.dot(&dr, v)))
+            .collect();
+        for (g, d) in self.gram.iter_mut().zip(&row[1..]) {
+            g.insert(0, *d);
+        }
+        self.gram.insert(0, row);
         self.v.insert(0, dr);
         self.w.insert(0, dx);
         self.windows.insert(0, window);
@@ -53,29 +77,61 @@ impl Columns {
         self.v.truncate(keep);
         self.w.truncate(keep);
         self.windows.truncate(keep);
+        self.gram.truncate(keep);
+        self.gram.iter_mut().for_each(|g| g.truncate(keep));
     }
 
-    /// Forget columns of a value of another length (a mesh that changed).
+    /// Forget columns of a value of another length (a mesh that changed),
+    /// keeping the inner product.
     pub fn fit(&mut self, len: usize) {
         if self.v.first().is_some_and(|c| c.len() != len) {
-            *self = Columns::default();
+            let scale = std::mem::take(&mut self.scale);
+            *self = Columns {
+                scale,
+                ..Columns::default()
+            };
+        }
+    }
+
+    /// Measure the columns in the inner product `scale` from now on.
+    pub fn rescale(&mut self, scale: &Scale) {
+        if *scale != self.scale {
+            self.scale = scale.clone();
+            self.gram.clear();
+        }
+    }
+
+    /// The Gram matrix computed afresh where it is not in step with the
+    /// columns (a new scale, an older checkpoint). Each entry is the dot
+    /// product of the newer column with the older, as a push computes it,
+    /// so a matrix computed afresh has the same bits.
+    fn update_gram(&mut self) {
+        if self.gram.len() == self.v.len() {
+            return;
+        }
+        let m = self.v.len();
+        self.gram = vec![vec![0.0; m]; m];
+        for i in 0..m {
+            for j in i..m {
+                let d = self.scale.dot(&self.v[i], &self.v[j]);
+                (self.gram[i][j], self.gram[j][i]) = (d, d);
+            }
         }
     }
 
     /// The quasi-Newton step W c for residual `r`, c = argmin ‖V c + r‖₂ over
     /// the columns the filter keeps; None when it keeps none. Also returns
     /// how many it used.
-    pub fn step(&self, r: &[f64], filter: f64) -> Option<(Vec<f64>, usize)> {
-        let kept = self.filtered(filter);
-        if kept.is_empty() {
-            return None;
-        }
-        let n = r.len();
-        let v = DMatrix::from_fn(n, kept.len(), |i, j| self.v[kept[j]][i]);
-        let qr = v.qr();
-        let rhs = qr.q().transpose() * DVector::from_iterator(n, r.iter().map(|x| -x));
-        let c = qr.r().solve_upper_triangular(&rhs)?;
-        Some((self.combine(&kept, c.as_slice()), kept.len()))
+    pub fn step(&mut self, r: &[f64], filter: f64) -> Option<(Vec<f64>, usize)> {
+        let m = self.count();
+        let share = Share {
+            columns: m,
+            gram: self.gram(),
+            against: self.against(r),
+            ..Share::default()
+        };
+        let (kept, c) = share.coefficients(filter)?;
+        Some((self.combine(&kept, &c), kept.len()))
     }
 
     /// How many columns are kept.
@@ -95,45 +151,15 @@ impl Columns {
         step
     }
 
-    /// The Gram matrix VᵀSV of the first `m` columns in the scaled inner
-    /// product `scale` (`Scale`), row-major m×m.
-    pub fn gram(&self, m: usize, scale: &Scale) -> Vec<f64> {
-        let mut g = vec![0.0; m * m];
-        for i in 0..m {
-            for j in 0..=i {
-                let d = scale.dot(&self.v[i], &self.v[j]);
-                (g[i * m + j], g[j * m + i]) = (d, d);
-            }
-        }
-        g
+    /// The Gram matrix VᵀSV of the columns, row-major m×m.
+    pub fn gram(&mut self) -> Vec<f64> {
+        self.update_gram();
+        self.gram.concat()
     }
 
-    /// VᵀS r over the first `m` columns.
-    pub fn against(&self, m: usize, r: &[f64], scale: &Scale) -> Vec<f64> {
-        self.v[..m].iter().map(|v| scale.dot(v, r)).collect()
-    }
-
-    /// The columns the QR2 filter keeps, newest first: modified Gram–Schmidt
-    /// against the kept ones, dropping a column whose remainder is below
-    /// `filter` times its norm.
-    fn filtered(&self, filter: f64) -> Vec<usize> {
-        let mut basis: Vec<Vec<f64>> = Vec::new();
-        let mut kept = Vec::new();
-        for (i, col) in self.v.iter().enumerate() {
-            let norm = dot(col, col).sqrt();
-            let mut rest = col.clone();
-            for q in &basis {
-                let p = dot(q, &rest);
-                rest.iter_mut().zip(q).for_each(|(x, q)| *x -= p * q);
-            }
-            let left = dot(&rest, &rest).sqrt();
-            if norm > 0.0 && left > filter * norm {
-                rest.iter_mut().for_each(|x| *x /= left);
-                basis.push(rest);
-                kept.push(i);
-            }
-        }
-        kept
+    /// VᵀS r.
+    pub fn against(&self, r: &[f64]) -> Vec<f64> {
+        self.v.iter().map(|v| self.scale.dot(v, r)).collect()
     }
 }
 
@@ -240,7 +266,38 @@ mod tests {
         cols.push(vec![1.0, 1.0, 1e-4], vec![0.0; 3], 0, LIMITS);
         // Newest first: [1, 1, 1e-4] and [0, 1, 0] stay; [1, 0, 0] lies in
         // their span but for 1e-4 of its norm.
-        assert_eq!(cols.filtered(1e-2), vec![0, 1]);
-        assert_eq!(cols.filtered(1e-6), vec![0, 1, 2]);
+        let kept = |filter: f64| {
+            let share = Share {
+                columns: 3,
+                gram: cols.clone().gram(),
+                against: vec![1.0; 3],
+                ..Share::default()
+            };
+            share.coefficients(filter).unwrap().0
+        };
+        assert_eq!(kept(1e-2), vec![0, 1]);
+        assert_eq!(kept(1e-6), vec![0, 1, 2]);
+    }
+
+    /// The Gram matrix kept up to date through pushes and truncations has
+    /// the bits of one computed afresh, in a scaled product too.
+    #[test]
+    fn the_gram_matrix_kept_in_step_is_the_one_computed_afresh() {
+        let limits = Limits {
+            max_columns: 3,
+            ..LIMITS
+        };
+        let mut cols = Columns::default();
+        cols.rescale(&Scale {
+            parts: vec![(2, 0.5), (2, 4.0)],
+        });
+        for k in 0..5 {
+            let c: Vec<f64> = (0..4).map(|i| ((k * 7 + i * 3) % 5) as f64 - 1.7).collect();
+            cols.push(c.clone(), c, 0, limits);
+        }
+        let kept = cols.gram();
+        cols.gram.clear();
+        assert_eq!(cols.gram(), kept);
+        assert_eq!(cols.count(), 3);
     }
 }

@@ -172,12 +172,12 @@ impl Share {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::iqn_ils::{Columns, Limits, Scale};
+    use crate::iqn_ils::{Columns, Limits};
 
     /// Rows of V split between two writers give, once their shares are
-    /// summed, the least-squares coefficients of the whole V: the same
-    /// as a QR decomposition of the stacked matrix (Columns::step), to
-    /// round-off, and the same filter decisions.
+    /// summed, the least-squares coefficients of the whole V: those of a
+    /// QR decomposition of the stacked matrix (nalgebra) over the columns
+    /// the filter keeps, to round-off.
     #[test]
     fn shares_of_split_rows_solve_the_least_squares_problem_of_all_rows() {
         let limits = Limits {
@@ -194,29 +194,33 @@ mod tests {
             [1.0, 0.5, -0.3, 2.0, 0.1, 1e-3],
         ];
         let r = [0.3, -0.2, 0.5, 1.0, -0.7, 0.4];
-        let mut whole = Columns::default();
         let (mut top, mut bottom) = (Columns::default(), Columns::default());
         for c in &cols {
-            whole.push(c.to_vec(), c.to_vec(), 0, limits);
             top.push(c[..2].to_vec(), c[..2].to_vec(), 0, limits);
             bottom.push(c[2..].to_vec(), c[2..].to_vec(), 0, limits);
         }
-        let plain = Scale::default();
-        let share = |c: &Columns, r: &[f64]| Share {
+        let share = |c: &mut Columns, r: &[f64]| Share {
             columns: c.count(),
-            gram: c.gram(c.count(), &plain),
-            against: c.against(c.count(), r, &plain),
+            gram: c.gram(),
+            against: c.against(r),
             ..Share::default()
         };
-        let total = Share::total(&[share(&top, &r[..2]), share(&bottom, &r[2..])]);
+        let total = Share::total(&[share(&mut top, &r[..2]), share(&mut bottom, &r[2..])]);
         let (kept, c) = total.coefficients(limits.filter).unwrap();
         assert_eq!(kept, vec![0, 1, 2], "the oldest column is dropped");
         let mut joint = top.combine(&kept, &c);
         joint.extend(bottom.combine(&kept, &c));
-        let (qr, used) = whole.step(&r, limits.filter).unwrap();
-        assert_eq!(used, 3);
-        for (a, b) in joint.iter().zip(&qr) {
-            assert!((a - b).abs() < 1e-12, "{joint:?} against {qr:?}");
+        // Newest first, as pushed: columns 3, 2, 1 of `cols`.
+        let v = nalgebra::DMatrix::from_fn(6, 3, |i, j| cols[3 - j][i]);
+        let rhs = nalgebra::DVector::from_iterator(6, r.iter().map(|x| -x));
+        let qr = v.clone().qr();
+        let c_qr = qr
+            .r()
+            .solve_upper_triangular(&(qr.q().transpose() * rhs))
+            .unwrap();
+        let step = v * c_qr;
+        for (a, b) in joint.iter().zip(step.iter()) {
+            assert!((a - b).abs() < 1e-12, "{joint:?} against {step:?}");
         }
     }
 

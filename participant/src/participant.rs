@@ -109,6 +109,9 @@ pub struct Participant {
     rows: Rows,
     /// The command handed out and not yet reported done.
     pending: Option<Command>,
+    /// When this participant last told the coupler something (rows, or
+    /// a try of a long implicit window: `joint_try.rs`).
+    reported: Instant,
     /// Whether a failure was reported.
     failed: bool,
     clock: Clock,
@@ -146,6 +149,7 @@ impl Participant {
             tries,
             rows,
             pending: None,
+            reported: now,
             failed: false,
             clock: Clock {
                 back: now,
@@ -499,6 +503,7 @@ impl Participant {
                 true => self.control.send(&msg)?,
                 false => self.control.post(&msg)?,
             }
+            self.reported = Instant::now();
         }
         Ok(())
     }

@@ -40,6 +40,11 @@ pub enum Report {
     Checkpoint {
         rows: u64,
     },
+    /// `tries` tries of window `window` are done (a long implicit window).
+    Tried {
+        window: u64,
+        tries: u32,
+    },
 }
 
 /// Why the coupler stops a run.
@@ -351,6 +356,7 @@ impl Supervisor {
                     },
                     FromParticipant::Finished(stats) => Report::Finished(stats),
                     FromParticipant::Checkpoint { rows } => Report::Checkpoint { rows },
+                    FromParticipant::Tried { window, tries } => Report::Tried { window, tries },
                     other => return Err(self.protocol(i, "a report", other)),
                 };
                 return Ok(Some((i, report)));

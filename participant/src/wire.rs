@@ -145,6 +145,13 @@ pub enum FromParticipant {
     Checkpoint {
         rows: u64,
     },
+    /// `tries` tries of window `window` are done and the window is taken
+    /// again or goes on: sent at most every second, so that the coupler
+    /// hears a participant that works through a long implicit window.
+    Tried {
+        window: u64,
+        tries: u32,
+    },
     /// The participant cannot go on (diverged, bad input); it exits non-zero after this.
     Failed {
         reason: String,

@@ -258,3 +258,29 @@ fn implicit_and_explicit_approach_each_other_as_the_window_shrinks() {
         }
     }
 }
+
+/// A window of many tries may take far longer than `[coupling] timeout`
+/// while every try answers in time (the C-9 at FronTier++'s resolution: 40
+/// tries of 1.5 s): the coupler, which hears no monitor row until the
+/// window goes on, must not take the run for hung. Here one window of the
+/// closed sheet is taken 1500 times (about 6 ms each, 9 s in all) under a
+/// timeout of 1.5 s, which the coupler would enforce after 3.5 s of
+/// silence.
+#[test]
+fn a_window_of_many_tries_longer_than_the_timeout_is_not_taken_for_a_hung_run() {
+    let dir = scratch("sheet-closed-long-window");
+    let scenario = variant("sheet-closed", &dir, |s| {
+        s.run.end_time = s.coupling.window;
+        s.coupling.timeout = 1.5;
+        s.coupling.implicit = Some(scenario::ImplicitSection {
+            min_iterations: 1500,
+            max_iterations: 1500,
+            ..Default::default()
+        });
+    });
+    let out = dir.join("run");
+    run_ok(&scenario, &out);
+    let tries = manifest(&out)["implicit"]["largest_iterations"].as_f64();
+    assert_eq!(tries, Some(1500.0));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

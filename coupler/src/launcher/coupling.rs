@@ -185,6 +185,8 @@ impl Watch<'_> {
                 }
             }
             Report::Checkpoint { rows } => self.checkpoints.push((p, rows)),
+            // Heard: the participant works through a long window.
+            Report::Tried { .. } => {}
             Report::Finished(s) => {
                 self.stats[p] = Some(s);
                 if let Ok(mut f) = self.shared.finished.lock() {

@@ -9,7 +9,14 @@ use crate::error::ExchangeError;
 use crate::implicit::share_field;
 use crate::joint::Share;
 use crate::verdict;
+use crate::wire::FromParticipant;
 use std::time::{Duration, Instant};
+
+/// How often at most a participant tells the coupler of a try closed: a
+/// window of many long tries sends no monitor row for minutes, and the
+/// coupler, which hears nothing else meanwhile, would take the run for
+/// hung after `[coupling] timeout`.
+const TRIED_EVERY: Duration = Duration::from_secs(1);
 
 impl Participant {
     /// Close try `iteration` at `window`; returns how long it waited for
@@ -42,6 +49,12 @@ impl Participant {
         let word = verdict::word(window, iteration, tries.converged);
         presence.own().post_word(word, tries.worst());
         presence.wake_all_sleeping()?;
+        if self.reported.elapsed() >= TRIED_EVERY {
+            let tries = iteration + 1;
+            self.control
+                .post(&FromParticipant::Tried { window, tries })?;
+            self.reported = Instant::now();
+        }
         Ok(waited)
     }
 

@@ -155,7 +155,11 @@ pub(super) fn run_manifest(exe: &Path, scene: &Path) -> Result<serde_json::Value
     let _ = std::fs::remove_dir_all(&dir);
     match (status.success(), manifest) {
         (true, Some(m)) => Ok(m),
-        _ => Err("the run failed".into()),
+        (false, Some(m)) => Err(format!(
+            "the run failed: {}",
+            m["error"].as_str().unwrap_or("(no reason in its manifest)")
+        )),
+        _ => Err("the run failed before it wrote its manifest".into()),
     }
 }
 
