@@ -49,10 +49,10 @@ fn the_c9_inflates_and_descends_steadily_at_its_handbook_drag_coefficient() {
     assert!(*fallen.last().unwrap() < -25.0, "{:?}", fallen.last());
 
     // A finer fluid grid (h = 0.33 m, 26 cells across the canopy) changes
-    // the steady descent speed by under 5 % (measured 1.6 %: 5.94 against
-    // 6.04 m/s, before issue 43's IQN-ILS change moved the coarse run to
-    // 6.08 m/s; it settles later, so its last 2 s spread 4 %). About 7.5
-    // minutes on a quiet machine.
+    // the steady descent speed by under 5 % (measured 2.3 %: 5.94 against
+    // 6.08 m/s, 1.6 % against 6.04 before issue 43's IQN-ILS change; it
+    // settles later, so its last 2 s spread 4 %). About 7.5 minutes on a
+    // quiet machine.
     let fine = variant("c9-inflation", &dir, |s| {
         let b = s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap();
         b.cells = [48, 48, 108];
