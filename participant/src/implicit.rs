@@ -37,16 +37,16 @@ pub fn with_implicit(
         .filter(|m| declaration.writes.iter().any(|w| w.name == m.field))
         .map(|m| format!("{RESIDUAL}{}", m.field))
         .collect();
-    let mut names_ = Vec::new();
+    let mut monitors = Vec::new();
     if names.first().is_some_and(|n| n == me) {
-        names_.push(TRIES.to_string());
+        monitors.push(TRIES.to_string());
     }
     let writer = !written.is_empty();
     if writer {
-        names_.extend(written);
-        names_.push(COLUMNS.to_string());
+        monitors.extend(written);
+        monitors.push(COLUMNS.to_string());
     }
-    let mut declaration = declaration.monitors(names_);
+    let mut declaration = declaration.monitors(monitors);
     if settings.parallel && writer {
         declaration = declaration.writes_items_of(&share_field(me), 1);
         for other in names.iter().filter(|n| *n != me) {

@@ -71,14 +71,13 @@ impl Iterations {
     /// a participant but read by none in this run (the fluid's
     /// `body.loads` without rigid bodies).
     fn drop_unread_fields(&mut self) {
-        let measured: Vec<bool> = (0..self.fields.len())
-            .map(|f| self.rows.iter().any(|r| !r.residuals[f].is_nan()))
+        let measured: Vec<usize> = (0..self.fields.len())
+            .filter(|&f| self.rows.iter().any(|r| !r.residuals[f].is_nan()))
             .collect();
-        let mut f = 0;
-        self.fields.retain(|_| (measured[f], f += 1).0);
+        let keep = |all: &[f64]| measured.iter().map(|&f| all[f]).collect();
+        self.fields = measured.iter().map(|&f| self.fields[f].clone()).collect();
         for r in &mut self.rows {
-            let mut f = 0;
-            r.residuals.retain(|_| (measured[f], f += 1).0);
+            r.residuals = keep(&r.residuals);
         }
     }
 
