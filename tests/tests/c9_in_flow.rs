@@ -4,20 +4,40 @@
 //! Recovery Systems Design Manual*, 1992, table 5-1; Ewing, Bixby & Knacke,
 //! *Recovery System Design Guide*, 1978): C_D0 = 0.75–0.80 on the nominal
 //! area, inflated (projected) diameter D_p/D₀ = 0.67–0.70.
+//!
+//! The shipped scenes' own runs (the C-9's descent and C_D0, its closed
+//! twin's harder shock, the finer grid) are the validation tier: about 30
+//! minutes together, more than CI can give them, so they are ignored there
+//! and run with `cargo test --release -p canopy-tests --test c9_in_flow --
+//! --ignored` (README, "The two commands"). CI runs the coarse variants
+//! below (1 m cells).
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use canopy_tests::*;
 
 /// The C-9's nominal diameter [m].
 const C9_DIAMETER: f64 = 8.534;
 
+/// `scenarios/c9-inflation.toml` as shipped, run once for every test here
+/// that reads it: its output directory.
+fn shipped_c9() -> &'static Path {
+    static RUN: OnceLock<PathBuf> = OnceLock::new();
+    RUN.get_or_init(|| {
+        let out = scratch("c9-inflation").join("run");
+        run_ok(&scenario_path("c9-inflation"), &out);
+        out
+    })
+}
+
 #[test]
+#[ignore = "validation tier, too long for CI: run with --ignored"]
 fn the_c9_inflates_and_descends_steadily_at_its_handbook_drag_coefficient() {
-    // `scenarios/c9-inflation.toml` as shipped: released flat at 6 m/s,
-    // held 1 s, steady over its last 2 s (from t = 3 s).
-    let dir = scratch("c9-inflation");
-    let out = dir.join("run");
-    run_ok(&scenario_path("c9-inflation"), &out);
-    let summary = &manifest(&out)["parachute"];
+    // Released flat at 6 m/s, held 1 s, steady over its last 2 s (from
+    // t = 3 s).
+    let out = shipped_c9();
+    let summary = &manifest(out)["parachute"];
     let number = |key: &str| summary[key].as_f64().unwrap_or(f64::NAN);
     let (cd, spread) = (number("drag_coefficient"), number("descent_speed_spread"));
     assert!((0.75..=0.80).contains(&cd), "C_D0 = {cd}: {summary}");
@@ -44,26 +64,33 @@ fn the_c9_inflates_and_descends_steadily_at_its_handbook_drag_coefficient() {
     let weight = 100.0 * 9.81;
     assert!(number("peak_opening_force") > 2.0 * weight, "{summary}");
     // The box followed: the canopy fell 27 m and stayed in it.
-    let m = Monitors::read(&out);
+    let m = Monitors::read(out);
     let fallen = m.column("fluid.frame_altitude");
     assert!(*fallen.last().unwrap() < -25.0, "{:?}", fallen.last());
+}
 
-    // A finer fluid grid (h = 0.33 m, 26 cells across the canopy) changes
-    // the steady descent speed by under 5 % (measured 2.3 %: 5.94 against
-    // 6.08 m/s, 1.6 % against 6.04 before issue 43's IQN-ILS change; it
-    // settles later, so its last 2 s spread 4 %). About 7.5 minutes on a
-    // quiet machine.
+/// A finer fluid grid (h = 0.33 m, 26 cells across the canopy) changes the
+/// shipped C-9's steady descent speed by under 5 % (measured 2.3 %: 5.94
+/// against 6.08 m/s, 1.6 % against 6.04 before issue 43's IQN-ILS change;
+/// it settles later, so its last 2 s spread 4 %). The fine run alone takes
+/// 7.5 minutes on a quiet machine, 19 beside the other tests.
+#[test]
+#[ignore = "validation tier, too long for CI: run with --ignored"]
+fn a_finer_grid_moves_the_c9s_descent_by_under_5_percent() {
+    let dir = scratch("c9-inflation-fine");
     let fine = variant("c9-inflation", &dir, |s| {
         let b = s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap();
         b.cells = [48, 48, 108];
         s.run.output_interval = 1.0;
     });
-    let fine_out = dir.join("fine");
+    let fine_out = dir.join("run");
     run_ok(&fine, &fine_out);
-    let fine_speed = manifest(&fine_out)["parachute"]["descent_speed"]
-        .as_f64()
-        .unwrap();
-    let speed = number("descent_speed");
+    let speed = |out: &Path| {
+        manifest(out)["parachute"]["descent_speed"]
+            .as_f64()
+            .unwrap()
+    };
+    let (fine_speed, speed) = (speed(&fine_out), speed(shipped_c9()));
     assert!(
         (fine_speed / speed - 1.0).abs() < 0.05,
         "{fine_speed} against {speed} m/s"
@@ -89,40 +116,36 @@ fn coarse(name: &str, run: &str, end: f64, change: impl FnOnce(&mut Scenario)) -
 
 /// Dissertation §4.2.3: ten suspension lines 0.3 m short "lead to an angled
 /// deployment". On the coarse grid the even C-9 flies within 5° of level
-/// until about 4 s (measured 1.4° on average over 2–4 s), the uneven one
-/// tilted (measured 22°); ten lines breaking at 5 s tilt a canopy that flew
-/// level, and it falls faster on the lines that are left. Until the break
-/// the run is the even one, bit for bit.
+/// until about 4 s (measured 2.7° on average over 2–4 s), the uneven one
+/// tilted (measured 22–24°); ten lines breaking at 5 s tilt a canopy that
+/// flew level (34° over 5.5–6.5 s), and it falls faster on the lines that
+/// are left (8.0 m/s against 5.0 m/s over the second before the break;
+/// the even canopy, run on, keeps 4.9 m/s over 5.5–6.5 s). Until the break
+/// c9-broken-lines is the even canopy bit for bit (measured), so its first
+/// 5 s stand for the even one.
 #[test]
 fn uneven_and_broken_lines_tilt_the_c9() {
     let tilt = "structure.parachute.tilt";
-    let even = coarse("c9-uneven-lines", "even", 6.5, |s| {
-        let p = s.parachute_mut();
-        p.line_changes.clear();
-    });
     let uneven = coarse("c9-uneven-lines", "uneven", 4.0, |_| {});
     let broken = coarse("c9-broken-lines", "broken", 6.5, |_| {});
     let (level, angled) = (
-        even.mean_over(tilt, 2.0, 4.0),
+        broken.mean_over(tilt, 2.0, 4.0),
         uneven.mean_over(tilt, 2.0, 4.0),
     );
     assert!(
         level < 5.0 && angled > 15.0,
         "tilt {level}° even, {angled}° uneven"
     );
-    let t = even.column("time");
-    let before = t.iter().position(|&t| t > 5.0).unwrap();
-    assert_eq!(even.column(tilt)[..before], broken.column(tilt)[..before]);
     let after = broken.mean_over(tilt, 5.5, 6.5);
     let speed = "structure.parachute.descent_speed";
     let (slow, fast) = (
-        even.mean_over(speed, 5.5, 6.5),
+        broken.mean_over(speed, 4.0, 5.0),
         broken.mean_over(speed, 5.5, 6.5),
     );
     assert!(after > 15.0, "tilt {after}° after the break");
     assert!(
         fast > 1.2 * slow,
-        "{fast} m/s on 18 lines, {slow} m/s on 28"
+        "{fast} m/s on 18 lines, {slow} m/s on 28 before the break"
     );
 }
 
@@ -195,24 +218,28 @@ fn the_parachutists_body_in_the_flow_feels_the_air_and_the_whole_obeys_newton() 
 /// (`scenarios/c9-closed.toml`), and, letting no air through, it opens
 /// with a harder shock than the porous canopy of `c9-inflation.toml`
 /// (Knacke 1992, ch. 6: opening forces fall as porosity rises). Both on
-/// the shipped grid to t = 1.5 s, past the opening: measured 9.9 kN
+/// the shipped grid over the first 1.5 s, past the opening (the porous
+/// one's from the shipped run the other tests read): measured 9.9 kN
 /// closed against 6.0 kN porous; asserted 1.3 times, and both above twice
 /// the payload's weight.
 #[test]
+#[ignore = "validation tier, too long for CI: run with --ignored"]
 fn a_closed_c9_opens_with_a_harder_shock_than_the_porous_one() {
     let end = 1.5;
-    let peak = |name: &str| {
-        let dir = scratch(&format!("{name}-opening"));
-        let path = variant(name, &dir, |s| {
-            s.run.end_time = end;
-            s.run.output_interval = end;
-        });
-        let out = dir.join("run");
-        run_ok(&path, &out);
-        let pull = Monitors::read(&out).column("structure.parachute.payload_force");
-        pull.iter().cloned().fold(0.0, f64::max)
+    let peak = |out: &Path| {
+        let m = Monitors::read(out);
+        let opening = m.column("time").iter().filter(|&&t| t <= end).count();
+        let pull = m.column("structure.parachute.payload_force");
+        pull[..opening].iter().cloned().fold(0.0, f64::max)
     };
-    let (closed, porous) = (peak("c9-closed"), peak("c9-inflation"));
+    let dir = scratch("c9-closed-opening");
+    let path = variant("c9-closed", &dir, |s| {
+        s.run.end_time = end;
+        s.run.output_interval = end;
+    });
+    let out = dir.join("run");
+    run_ok(&path, &out);
+    let (closed, porous) = (peak(&out), peak(shipped_c9()));
     let weight = 100.0 * 9.81;
     assert!(
         porous > 2.0 * weight && closed > 1.3 * porous,

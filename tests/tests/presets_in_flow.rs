@@ -20,6 +20,12 @@
 //!   diameters of fall to build (the README's table gives each scene's
 //!   numbers on its shipped grid). The C-9's C_D0 is validated on fine
 //!   grids in tests/tests/c9_in_flow.rs.
+//!
+//! CI runs the T-11 (the cross) and the Intruder (a flat circular canopy,
+//! the smallest): the four together took 18 minutes of CI's 90. The T-10
+//! and the G-11, the same checks on the flat circular family, are in the
+//! validation tier, ignored in CI: `cargo test --release -p canopy-tests
+//! --test presets_in_flow -- --ignored` runs them (about 8 minutes).
 
 use canopy_tests::*;
 
@@ -87,11 +93,13 @@ fn descends_as_the_handbook_says(name: &str, cells: [u32; 3], book: &Handbook) {
 }
 
 #[test]
+#[ignore = "validation tier, too long for CI: run with --ignored"]
 fn t10_descends_as_the_handbook_says() {
     descends_as_the_handbook_says("t10-descent", [20, 20, 42], &FLAT);
 }
 
 #[test]
+#[ignore = "validation tier, too long for CI: run with --ignored"]
 fn g11_descends_as_the_handbook_says() {
     descends_as_the_handbook_says("g11-descent", [16, 16, 36], &FLAT);
 }
