@@ -6,7 +6,7 @@ mod scene;
 pub use scene::{ParticipantSpec, Scenario};
 use std::path::{Path, PathBuf};
 use std::process::Output;
-use std::sync::Once;
+use std::sync::{Once, OnceLock};
 
 pub fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -21,27 +21,62 @@ fn target_dir() -> PathBuf {
         .unwrap_or_else(|| workspace().join("target"))
 }
 
-/// `cargo build --release ARGS` in the workspace; panics with cargo's
-/// stderr if it fails.
-fn cargo_build(args: &[&str]) {
+/// `cargo build --release ARGS` in the workspace, or cargo's stderr.
+fn try_cargo_build(args: &[&str]) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = std::process::Command::new(cargo)
         .current_dir(workspace())
         .args(["build", "--release"])
         .args(args)
         .output()
-        .expect("run cargo build");
-    assert!(
-        out.status.success(),
-        "cargo build {args:?} failed:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .map_err(|e| format!("cannot run cargo build: {e}"))?;
+    if out.status.success() {
+        Ok(())
+    } else {
+        Err(format!(
+            "cargo build {args:?} failed:\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        ))
+    }
 }
 
-/// Build every executable of the workspace once (release), so tests launch what the README launches.
+/// `cargo build --release ARGS` in the workspace; panics with cargo's
+/// stderr if it fails.
+fn cargo_build(args: &[&str]) {
+    try_cargo_build(args).unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// The MPI fluid-proc's path, or why it could not be built (see
+/// `mpi_fluid_proc`); set by `ensure_built` where `mpirun` runs.
+static MPI_FLUID_PROC: OnceLock<Result<PathBuf, String>> = OnceLock::new();
+
+/// Build every executable of the workspace once (release), so tests launch
+/// what the README launches; first, where `mpirun` runs, fluid-proc with
+/// its `mpi` feature. That one is built in the workspace's own target
+/// directory, where only fluid-proc and the MPI crates compile again (a
+/// target directory of its own compiled every dependency a second time),
+/// and cargo puts it where the default fluid-proc was: it is copied to
+/// `target/release/mpi/`, and the default build put back, before any test
+/// of this process can start a run.
 pub fn ensure_built() {
     static BUILD: Once = Once::new();
-    BUILD.call_once(|| cargo_build(&["--bins"]));
+    BUILD.call_once(|| {
+        if has_mpirun() {
+            let _ = MPI_FLUID_PROC.set(build_mpi_fluid_proc());
+        }
+        cargo_build(&["--bins"]);
+    });
+}
+
+/// fluid-proc with its `mpi` feature, copied to `target/release/mpi/`.
+fn build_mpi_fluid_proc() -> Result<PathBuf, String> {
+    try_cargo_build(&["-p", "fluid-proc", "--features", "mpi"])?;
+    let release = target_dir().join("release");
+    let copy = release.join("mpi").join("fluid-proc");
+    std::fs::create_dir_all(copy.parent().unwrap())
+        .and_then(|()| std::fs::copy(release.join("fluid-proc"), &copy))
+        .map_err(|e| format!("cannot copy the MPI fluid-proc to {}: {e}", copy.display()))?;
+    Ok(copy)
 }
 
 /// Example `name` of workspace package `package`, built (release).
@@ -59,16 +94,11 @@ pub fn has_mpirun() -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
-/// fluid-proc built with its `mpi` feature, or None when this machine has
-/// no `mpirun`. CI sets `CANOPY_REQUIRE_MPI` (its script installs
-/// OpenMPI), and then a machine without MPI fails instead of skipping.
-///
-/// It is built in the workspace's own target directory, where only
-/// fluid-proc and the MPI crates compile again (under a minute; a target
-/// directory of its own compiled every dependency a second time), copied
-/// to `target/release/mpi/`, and the default fluid-proc is put back. The
-/// two differ only on more than one rank, so a run that starts the MPI
-/// build in between runs the same.
+/// fluid-proc built with its `mpi` feature (by `ensure_built`), or None
+/// when this machine has no `mpirun`. CI sets `CANOPY_REQUIRE_MPI` (its
+/// script installs OpenMPI), and then a machine without MPI fails instead
+/// of skipping; where the MPI build failed, the tests that need it fail
+/// with cargo's message and the others run.
 pub fn mpi_fluid_proc() -> Option<PathBuf> {
     if !has_mpirun() {
         assert!(
@@ -78,16 +108,12 @@ pub fn mpi_fluid_proc() -> Option<PathBuf> {
         eprintln!("no mpirun on this machine: the MPI runs are skipped");
         return None;
     }
-    static BUILD: Once = Once::new();
-    let release = target_dir().join("release");
-    let copy = release.join("mpi").join("fluid-proc");
-    BUILD.call_once(|| {
-        cargo_build(&["-p", "fluid-proc", "--features", "mpi"]);
-        std::fs::create_dir_all(copy.parent().unwrap()).expect("create target/release/mpi");
-        std::fs::copy(release.join("fluid-proc"), &copy).expect("copy the MPI fluid-proc");
-        cargo_build(&["--bins"]);
-    });
-    Some(copy)
+    ensure_built();
+    match MPI_FLUID_PROC.get() {
+        Some(Ok(path)) => Some(path.clone()),
+        Some(Err(e)) => panic!("{e}"),
+        None => panic!("mpirun runs now but did not when the executables were built"),
+    }
 }
 
 pub fn coupler_exe() -> PathBuf {
