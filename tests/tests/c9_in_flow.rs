@@ -121,8 +121,9 @@ fn coarse(name: &str, run: &str, end: f64, change: impl FnOnce(&mut Scenario)) -
 /// flew level (34° over 5.5–6.5 s), and it falls faster on the lines that
 /// are left (8.0 m/s against 5.0 m/s over the second before the break;
 /// the even canopy, run on, keeps 4.9 m/s over 5.5–6.5 s). Until the break
-/// c9-broken-lines is the even canopy bit for bit (measured), so its first
-/// 5 s stand for the even one.
+/// c9-broken-lines is the even canopy bit for bit (measured on these runs;
+/// `line_breaks.rs` asserts it of a break not yet due on the C-9 drop), so
+/// its first 5 s stand for the even one.
 #[test]
 fn uneven_and_broken_lines_tilt_the_c9() {
     let tilt = "structure.parachute.tilt";
