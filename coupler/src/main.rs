@@ -65,6 +65,10 @@ enum BenchCmd {
         /// Only the round trips, no scene.
         #[arg(long)]
         no_scenes: bool,
+        /// Runs of each scene, quiet and beside the busy process in turn;
+        /// each column is the run of median wall time.
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
     },
     /// An implicit window's cost against an explicit one's on a scene both
     /// run, and the share of checkpoints and relaxation.
@@ -159,12 +163,13 @@ fn main() {
                     rounds,
                     mut scenes,
                     no_scenes,
+                    repeats,
                 },
         } => {
             if scenes.is_empty() && !no_scenes {
                 scenes = BENCH_SCENES.iter().map(PathBuf::from).collect();
             }
-            launcher::bench::exchange(rounds.max(10), &scenes)
+            launcher::bench::exchange(rounds.max(10), &scenes, repeats.max(1))
         }
         Cmd::Bench {
             what: BenchCmd::Implicit { scene, repeats },

@@ -18,7 +18,7 @@ use iceoryx2::port::{BackpressureAction, BackpressureInfo};
 use iceoryx2::prelude::*;
 use std::time::{Duration, Instant};
 
-pub type Ipc = ipc::Service;
+pub use crate::service::Ipc;
 pub type BytesOut = Publisher<Ipc, [u8], ()>;
 pub type BytesIn = Subscriber<Ipc, [u8], ()>;
 /// A field value's header: its number in the sequence of values written,
@@ -209,8 +209,11 @@ fn event(
     node: &Node<Ipc>,
     name: &str,
 ) -> Result<iceoryx2::service::port_factory::event::PortFactory<Ipc>, ChannelError> {
+    // One event id (the default, 0): a listener's every wake-up drains
+    // all the ids the service holds (255 by iceoryx2's default).
     node.service_builder(&service_name(name)?)
         .event()
+        .event_id_max_value(0)
         .open_or_create()
         .map_err(ipc_err("open event service"))
 }
@@ -374,10 +377,11 @@ pub fn wait_until<T>(
 /// Sleep on `listener` for at most `slice`. A notification that arrived
 /// before is kept by the event, so this returns at once then.
 pub fn block(listener: &Listener<Ipc>, slice: Duration) -> Result<(), ChannelError> {
-    // iceoryx2 0.10 waits with SO_RCVTIMEO in whole microseconds, where 0
-    // means "for ever": a slice under 1 µs (the last moments before a
-    // deadline) would block until a wake-up that may never come. The
-    // coupler, which polls for rows posted without a wake-up, then hung.
+    // A slice of at least 1 µs: iceoryx2's socket event, used before the
+    // futex event (`futex_event.rs`), took a zero timeout for "for ever",
+    // and the coupler, which polls for rows posted without a wake-up, hung
+    // in the last moments before a deadline. The futex takes zero as zero;
+    // the floor stays so that no event can block for ever here.
     let slice = slice.max(MIN_BLOCK);
     match listener.timed_wait(|_| {}, slice) {
         // A signal (SIGCHLD, SIGINT handled elsewhere) only cuts the wait short.

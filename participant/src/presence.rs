@@ -25,7 +25,16 @@ use crate::load::Load;
 use crate::names;
 use iceoryx2::node::Node;
 use iceoryx2::port::notifier::Notifier;
+use std::cell::Cell;
 use std::sync::atomic::{fence, Ordering};
+use std::time::{Duration, Instant};
+
+/// How long a participant this one has woken counts as awake while its
+/// flag still says asleep: the wakee raises its flag only once it runs, and
+/// beside other work it runs on this participant's core (a sync wake-up
+/// puts it there), so a waker that took its asleep flag at its word would
+/// spin on the core the wakee waits for.
+const WOKEN_AWAKE: Duration = Duration::from_millis(1);
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum State {
@@ -186,6 +195,9 @@ pub struct Presence {
     cores: u64,
     /// Cores other work on the machine holds.
     load: Load,
+    /// By participant index: when this one last woke it, until its flag
+    /// shows it awake ([`WOKEN_AWAKE`]).
+    woken: Vec<Cell<Option<Instant>>>,
 }
 
 impl Presence {
@@ -219,6 +231,7 @@ impl Presence {
         Ok(Presence {
             own,
             me,
+            woken: peers.iter().map(|_| Cell::new(None)).collect(),
             peers,
             cores,
             load: Load::new(),
@@ -243,8 +256,26 @@ impl Presence {
     fn wake(&self, p: usize) -> Result<(), ChannelError> {
         if let Some(Some(peer)) = self.peers.get(p) {
             peer.wake.notify().map_err(channel::ipc_err("notify"))?;
+            self.woken[p].set(Some(Instant::now()));
         }
         Ok(())
+    }
+
+    /// Participant `p`'s flag as the count of cores should take it: asleep
+    /// but woken by this one under [`WOKEN_AWAKE`] ago, it computes.
+    fn awake(&self, p: usize) -> Option<Seen> {
+        let s = self.seen(p)?;
+        let Some(at) = self.woken[p].get() else {
+            return Some(s);
+        };
+        if s.state != State::Asleep || at.elapsed() >= WOKEN_AWAKE {
+            self.woken[p].set(None);
+            return Some(s);
+        }
+        Some(Seen {
+            state: State::Computing,
+            ..s
+        })
     }
 
     /// Participant `p`'s word on its last try at a window (this one's own
@@ -309,7 +340,7 @@ impl Presence {
             .filter(move |&p| p != except)
             .filter_map(move |p| match p == self.me {
                 true => Some((p, mine)),
-                false => self.seen(p).map(|s| (p, s)),
+                false => self.awake(p).map(|s| (p, s)),
             })
     }
 
@@ -318,7 +349,7 @@ impl Presence {
         let me = self.own.ranks;
         let ours = me
             + (0..self.peers.len())
-                .filter_map(|p| self.seen(p))
+                .filter_map(|p| self.awake(p))
                 .map(|s| s.cores())
                 .sum::<u64>();
         let others = self.load.others(std::time::Instant::now(), ours);

@@ -3,12 +3,22 @@
 //! shortest exact form, so a file reads back bit-identical), and a `.pvd`
 //! collection that strings them into a time series.
 //!
-//! Every file is written to a temporary name and renamed, so a run that stops
-//! at any moment leaves only complete files behind.
+//! Every `.vtu` and `.vti` file is written to a temporary name and renamed,
+//! so a run that stops at any moment leaves only complete files behind. The
+//! `.pvd` is written so once; each later output extends it in place with one
+//! write of its new line and the closing tags over the old closing tags
+//! ([`Series`]): a process killed around that write leaves the old list or
+//! the new one (a write of a few hundred bytes to a local file is not cut
+//! short by a signal). Creating and renaming a file costs about 0.3 ms on
+//! this project's virtual machines, which made a run with frequent outputs
+//! (the pendulum's 200 in 10 s) spend more time on its `.pvd` files than
+//! on its physics.
 
 use crate::atomic::write_atomic;
 use std::fmt::Write as _;
+use std::fs::File;
 use std::io;
+use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
 
 /// VTK cell types used by canopy.
@@ -150,11 +160,21 @@ pub fn read_cell_data(path: &Path, name: &str) -> io::Result<Vec<f64>> {
         .collect()
 }
 
+/// The `.pvd` file's first lines.
+const PVD_HEAD: &str =
+    "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n<Collection>\n";
+/// Its closing tags, which each new output's line goes before.
+const PVD_TAIL: &str = "</Collection>\n</VTKFile>\n";
+
 /// A `.pvd` time series in the run directory, with its `.vtu` files under `vtk/`.
 pub struct Series {
     dir: PathBuf,
     name: String,
     entries: Vec<(f64, String)>,
+    /// The `.pvd` once written whole, and where its closing tags begin.
+    pvd: Option<(File, u64)>,
+    /// Whether `vtk/` is known to exist.
+    vtk_made: bool,
 }
 
 impl Series {
@@ -163,6 +183,8 @@ impl Series {
             dir: run_dir.to_path_buf(),
             name: name.to_string(),
             entries: Vec::new(),
+            pvd: None,
+            vtk_made: false,
         }
     }
 
@@ -183,26 +205,55 @@ impl Series {
         extension: &str,
         write: impl FnOnce(&Path) -> io::Result<()>,
     ) -> io::Result<PathBuf> {
-        let vtk = self.dir.join("vtk");
-        std::fs::create_dir_all(&vtk).map_err(|e| {
-            io::Error::new(e.kind(), format!("cannot create {}: {e}", vtk.display()))
-        })?;
+        if !self.vtk_made {
+            let vtk = self.dir.join("vtk");
+            std::fs::create_dir_all(&vtk).map_err(|e| {
+                io::Error::new(e.kind(), format!("cannot create {}: {e}", vtk.display()))
+            })?;
+            self.vtk_made = true;
+        }
         let rel = format!("vtk/{}_{index:06}.{extension}", self.name);
         let path = self.dir.join(&rel);
         write(&path)?;
         self.entries.push((time, rel));
-        self.write_pvd()?;
+        match self.pvd.take() {
+            Some((file, at)) => self.extend_pvd(file, at)?,
+            None => self.write_pvd()?,
+        }
         Ok(path)
     }
 
-    /// The `.pvd` listing every output so far.
-    fn write_pvd(&self) -> io::Result<()> {
-        let mut s = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n<Collection>\n");
+    fn pvd_path(&self) -> PathBuf {
+        self.dir.join(format!("{}.pvd", self.name))
+    }
+
+    /// The `.pvd` listing every output so far, written whole.
+    fn write_pvd(&mut self) -> io::Result<()> {
+        let mut s = String::from(PVD_HEAD);
         for (t, f) in &self.entries {
-            let _ = writeln!(s, "<DataSet timestep=\"{t}\" part=\"0\" file=\"{f}\"/>");
+            s.push_str(&pvd_line(*t, f));
         }
-        s.push_str("</Collection>\n</VTKFile>\n");
-        write_atomic(&self.dir.join(format!("{}.pvd", self.name)), &s)
+        s.push_str(PVD_TAIL);
+        let path = self.pvd_path();
+        write_atomic(&path, &s)?;
+        let file = File::options()
+            .write(true)
+            .open(&path)
+            .map_err(|e| named(&path, e))?;
+        self.pvd = Some((file, (s.len() - PVD_TAIL.len()) as u64));
+        Ok(())
+    }
+
+    /// The last output's line and the closing tags, written over the old
+    /// closing tags at `at` in one write.
+    fn extend_pvd(&mut self, file: File, at: u64) -> io::Result<()> {
+        let (t, f) = self.entries.last().expect("an output was just added");
+        let line = pvd_line(*t, f);
+        let bytes = format!("{line}{PVD_TAIL}");
+        file.write_all_at(bytes.as_bytes(), at)
+            .map_err(|e| named(&self.pvd_path(), e))?;
+        self.pvd = Some((file, at + line.len() as u64));
+        Ok(())
     }
 
     /// The outputs written so far, (time, file) each, for a run checkpoint.
@@ -216,6 +267,16 @@ impl Series {
         self.entries = entries;
         self.write_pvd()
     }
+}
+
+/// One output's line in the `.pvd`.
+fn pvd_line(time: f64, file: &str) -> String {
+    format!("<DataSet timestep=\"{time}\" part=\"0\" file=\"{file}\"/>\n")
+}
+
+/// An error that names the file it is about.
+fn named(path: &Path, e: io::Error) -> io::Error {
+    io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
 }
 
 /// Read the points of a `.vtu` written by [`write_vtu`] (for tests and tools).
@@ -304,6 +365,40 @@ mod tests {
         assert!(std::fs::read_to_string(dir.join("t.pvd"))
             .unwrap()
             .contains("vtk/t_000000.vtu"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The `.pvd` extended in place reads as the list written whole, output
+    /// after output, and a resumed series (a restart) lists only the
+    /// outputs it is given and goes on extending from there.
+    #[test]
+    fn the_pvd_extended_in_place_is_the_whole_list() {
+        let dir = std::env::temp_dir().join(format!("canopy-pvd-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let piece = Piece {
+            points: &[0.0; 3],
+            kind: CellKind::Vertex,
+            connectivity: &[0],
+            point_data: vec![],
+        };
+        let whole = |entries: &[(f64, String)]| {
+            let lines: String = entries.iter().map(|(t, f)| pvd_line(*t, f)).collect();
+            format!("{PVD_HEAD}{lines}{PVD_TAIL}")
+        };
+        let pvd = || std::fs::read_to_string(dir.join("s.pvd")).unwrap();
+        let mut series = Series::new(&dir, "s");
+        for i in 0..5 {
+            series.write(i, 0.05 * i as f64, &piece).unwrap();
+            assert_eq!(pvd(), whole(series.entries()), "after output {i}");
+        }
+        let kept = series.entries()[..2].to_vec();
+        let mut resumed = Series::new(&dir, "s");
+        resumed.resume(kept.clone()).unwrap();
+        assert_eq!(pvd(), whole(&kept));
+        resumed.write(2, 0.1, &piece).unwrap();
+        assert_eq!(pvd(), whole(resumed.entries()));
+        assert_eq!(resumed.entries().len(), 3);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -80,7 +80,8 @@ impl Waiter {
         let result = loop {
             p.waiting(State::Spinning, short(start.elapsed()), expected, writer);
             let spun = self.spin(start, deadline, &mut poll, |waited| {
-                (waited < SPIN_SHORT && !p.crowded()) || p.may_spin(short(waited), expected, writer)
+                (waited < SPIN_SHORT && p.can_spin() && !p.crowded())
+                    || p.may_spin(short(waited), expected, writer)
             });
             match spun {
                 Ok(None) => {}

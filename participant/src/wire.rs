@@ -85,6 +85,8 @@ pub struct Stats {
     pub latency_s: f64,
     /// Waits that ended asleep on the wake event rather than spinning.
     pub sleeps: u64,
+    /// Reads whose value was there at the first look: no wait at all.
+    pub ready: u64,
     pub commands: u64,
     /// Field values read: hand-offs from another participant.
     pub reads: u64,

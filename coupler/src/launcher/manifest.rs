@@ -126,6 +126,7 @@ fn processes_json(children: &[Child], outcome: Option<&coupling::Outcome>) -> se
                 "wait_s": st.map(|s| s.wait_s),
                 "latency_s": st.map(|s| s.latency_s),
                 "sleeps": st.map(|s| s.sleeps),
+                "ready": st.map(|s| s.ready),
                 "commands": st.map(|s| s.commands),
                 "reads": st.map(|s| s.reads),
                 "substeps": st.map(|s| s.substeps),

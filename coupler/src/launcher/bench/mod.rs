@@ -15,9 +15,10 @@
 //!
 //! The scene rows run `coupler run` and read the manifest's
 //! `coupling.exchange_share`: the share of the coupled run's wall time in
-//! which no participant computes, run once as the machine is and once
-//! beside a busy process (a user's other work: a coupled run must not
-//! spin against it). Beside it, the floor: the share that the
+//! which no participant computes, run as the machine is and beside a busy
+//! process (a user's other work: a coupled run must not spin against it),
+//! in turn, `--repeats` times each: each column is the run of median wall
+//! time (this machine's timings move by 2× from one run to the next). Beside it, the floor: the share that the
 //! same number of hand-offs would take if each cost no more than moving
 //! one cache line from core to core ([`floor`]), measured in the same run.
 
@@ -49,7 +50,7 @@ pub struct Times {
 }
 
 /// `coupler bench exchange`: prints the tables; returns the exit code.
-pub fn exchange(rounds: usize, scenes: &[PathBuf]) -> i32 {
+pub fn exchange(rounds: usize, scenes: &[PathBuf], repeats: usize) -> i32 {
     let exe = match std::env::current_exe() {
         Ok(e) => e,
         Err(e) => {
@@ -80,12 +81,20 @@ pub fn exchange(rounds: usize, scenes: &[PathBuf]) -> i32 {
         ),
         None => println!("floor: not measured (one core)"),
     }
+    match beside_a_busy_process(|| Ok(floor::sleeping_round_trip_us())) {
+        Ok(Some(us)) => println!(
+            "floor beside one busy process, where nobody spins: a hand-off there and back between two processes sleeping on a futex: {us:.2} µs"
+        ),
+        Ok(None) => println!("floor beside one busy process: not measured (no shared page or no fork)"),
+        Err(e) => println!("floor beside one busy process: not measured ({e})"),
+    }
     if !scenes.is_empty() {
         println!();
         println!("exchange share of a coupled run: time inside the library's calls and between a value's sending and its");
         println!("waiting reader seeing it, summed over participants, against the coupled run's wall time (from start to finish);");
         println!("floor: the share its hand-offs (values read) would take at half the cache-line round trip each;");
-        println!("busy: the same run again right after, beside one busy process (`sh -c 'while :; do :; done'`)");
+        println!("busy: the same run again right after, beside one busy process (`sh -c 'while :; do :; done'`);");
+        println!("{repeats} runs of each, in turn; each column is the run of median wall time");
         println!(
             "{:<34} {:>8} {:>8} {:>10} {:>10} {:>10} {:>9} {:>7} {:>7} {:>8} {:>7} {:>7}",
             "scene",
@@ -103,7 +112,7 @@ pub fn exchange(rounds: usize, scenes: &[PathBuf]) -> i32 {
         );
     }
     for scene in scenes {
-        match scene_rows(&exe, scene, floor_us.unwrap_or(f64::NAN)) {
+        match scene_rows(&exe, scene, floor_us.unwrap_or(f64::NAN), repeats) {
             Ok(line) => println!("{line}"),
             Err(e) => {
                 eprintln!("error: {}: {e}", scene.display());
@@ -163,12 +172,21 @@ pub(super) fn run_manifest(exe: &Path, scene: &Path) -> Result<serde_json::Value
     }
 }
 
-/// A scene's row: its run on the machine as it is, then beside a busy
-/// process.
-fn scene_rows(exe: &Path, scene: &Path, floor_us: f64) -> Result<String, String> {
-    let quiet = run_manifest(exe, scene)?;
-    let busy = beside_a_busy_process(|| run_manifest(exe, scene))?;
+/// A scene's row: its runs on the machine as it is and beside a busy
+/// process, in turn, `repeats` times each; the run of median wall time of
+/// each kind.
+fn scene_rows(exe: &Path, scene: &Path, floor_us: f64, repeats: usize) -> Result<String, String> {
     let wall = |m: &serde_json::Value| m["coupler"]["wall_s"].as_f64().unwrap_or(f64::NAN);
+    let (mut quiet, mut busy) = (Vec::new(), Vec::new());
+    for _ in 0..repeats {
+        quiet.push(run_manifest(exe, scene)?);
+        busy.push(beside_a_busy_process(|| run_manifest(exe, scene))?);
+    }
+    let median = |mut runs: Vec<serde_json::Value>| {
+        runs.sort_by(|a, b| wall(a).total_cmp(&wall(b)));
+        runs.swap_remove(runs.len() / 2)
+    };
+    let (quiet, busy) = (median(quiet), median(busy));
     let share =
         |m: &serde_json::Value| m["coupling"]["exchange_share"].as_f64().unwrap_or(f64::NAN);
     Ok(format!(

@@ -1,0 +1,229 @@
+//! The wake-up event of canopy's iceoryx2 service (`service.rs`): a
+//! counter in the event's own shared memory that a sleeping listener waits
+//! on with Linux's `futex`. A notification is one atomic add, and one
+//! `FUTEX_WAKE` only while the listener sleeps; a sleep is one
+//! `FUTEX_WAIT`. iceoryx2's default event (a Unix datagram socket) pays a
+//! `sendto` per notification and five system calls per sleep; its
+//! semaphore event waits for a monotonic deadline by polling with
+//! `nanosleep`. Between two processes taking turns beside other work,
+//! every hand-off is a wake-up (`presence.rs`), so those calls are most of
+//! what the hand-off costs (README, "Exchange speed").
+//!
+//! No notification is lost: the listener compares the counter with the
+//! last value it saw, and the kernel compares it once more before it
+//! sleeps, so a notification between the listener's look and its sleep
+//! makes the sleep return at once.
+
+use iceoryx2_bb_elementary_traits::testing::abandonable::Abandonable;
+use iceoryx2_bb_elementary_traits::zero_copy_send::ZeroCopySend;
+use iceoryx2_bb_lock_free::mpmc::counting_bit_set::RelocatableCountingBitSet;
+use iceoryx2_bb_system_types::file_name::FileName;
+use iceoryx2_bb_system_types::path::Path;
+use iceoryx2_cal::dynamic_storage::{posix_shared_memory, DynamicStorage};
+use iceoryx2_cal::event::common::EventImpl;
+use iceoryx2_cal::event::event_state::EventState;
+use iceoryx2_cal::event::trigger::{Configuration, HandlerInterface, State, WaiterInterface};
+use iceoryx2_cal::event::{
+    ListenerCreateError, ListenerWaitError, NotifierNotifyError, NotifierOpenError,
+};
+use iceoryx2_cal::named_concept::{NamedConceptPathHintRemoveError, NamedConceptRemoveError};
+use std::mem::MaybeUninit;
+use std::ptr::NonNull;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::Duration;
+
+/// iceoryx2's counting event with the futex trigger.
+pub type FutexEvent =
+    EventImpl<RelocatableCountingBitSet, FutexMgmt, Storage, FutexNotifier, FutexListener>;
+type Storage = posix_shared_memory::Storage<State<RelocatableCountingBitSet, FutexMgmt>>;
+
+/// The trigger's words, in the event's shared memory.
+#[derive(Debug)]
+#[repr(C)]
+pub struct FutexMgmt {
+    /// Notifications so far (wrapping).
+    count: AtomicU32,
+    /// Whether the listener sleeps, or is about to.
+    sleeping: AtomicU32,
+}
+
+// SAFETY: two plain 32-bit words with a fixed layout, no pointers.
+unsafe impl ZeroCopySend for FutexMgmt {}
+
+/// A notifier's end: the shared words.
+#[derive(Debug)]
+pub struct FutexNotifier {
+    mgmt: *const FutexMgmt,
+}
+
+/// The listener's end: the shared words and the count it saw last.
+#[derive(Debug)]
+pub struct FutexListener {
+    mgmt: *const FutexMgmt,
+    seen: AtomicU32,
+}
+
+// SAFETY: the words are atomics in shared memory that iceoryx2 keeps mapped
+// as long as the port that holds this end.
+unsafe impl Send for FutexNotifier {}
+unsafe impl Sync for FutexNotifier {}
+unsafe impl Send for FutexListener {}
+unsafe impl Sync for FutexListener {}
+
+impl Abandonable for FutexNotifier {
+    unsafe fn abandon_in_place(_this: NonNull<Self>) {}
+}
+
+impl Abandonable for FutexListener {
+    unsafe fn abandon_in_place(_this: NonNull<Self>) {}
+}
+
+impl FutexNotifier {
+    fn mgmt(&self) -> &FutexMgmt {
+        // SAFETY: see the Send impl.
+        unsafe { &*self.mgmt }
+    }
+}
+
+impl FutexListener {
+    fn mgmt(&self) -> &FutexMgmt {
+        // SAFETY: see the Send impl.
+        unsafe { &*self.mgmt }
+    }
+
+    /// Sleep until the count moves from what was seen, or `timeout`.
+    fn sleep(&self, timeout: Option<Duration>) -> Result<(), ListenerWaitError> {
+        let m = self.mgmt();
+        let seen = self.seen.load(Ordering::Relaxed);
+        // Said before the last look (both SeqCst): a notifier that adds
+        // after this look sees the flag and wakes the futex.
+        m.sleeping.store(1, Ordering::SeqCst);
+        let result = match m.count.load(Ordering::SeqCst) == seen {
+            true => futex_wait(&m.count, seen, timeout),
+            false => Ok(()),
+        };
+        m.sleeping.store(0, Ordering::SeqCst);
+        self.catch_up();
+        result
+    }
+
+    /// Every notification so far counts as seen.
+    fn catch_up(&self) {
+        self.seen
+            .store(self.mgmt().count.load(Ordering::Acquire), Ordering::Relaxed);
+    }
+}
+
+impl<E: EventState, S: DynamicStorage<State<E, FutexMgmt>>> HandlerInterface<E, FutexMgmt, S>
+    for FutexNotifier
+{
+    fn open(
+        _name: &FileName,
+        _config: &Configuration,
+        mgmt: &FutexMgmt,
+    ) -> Result<Self, NotifierOpenError> {
+        Ok(FutexNotifier { mgmt })
+    }
+
+    fn notify(&self) -> Result<(), NotifierNotifyError> {
+        let m = self.mgmt();
+        m.count.fetch_add(1, Ordering::SeqCst);
+        if m.sleeping.load(Ordering::SeqCst) != 0 {
+            futex_wake(&m.count);
+        }
+        Ok(())
+    }
+}
+
+impl<E: EventState, S: DynamicStorage<State<E, FutexMgmt>>> WaiterInterface<E, FutexMgmt, S>
+    for FutexListener
+{
+    const IS_FILE_DESCRIPTOR_BASED: bool = false;
+
+    unsafe fn remove(
+        _name: &FileName,
+        _config: &Configuration,
+    ) -> Result<bool, NamedConceptRemoveError> {
+        // Nothing lives outside the event's shared memory.
+        Ok(true)
+    }
+
+    fn remove_path_hint(_value: &Path) -> Result<(), NamedConceptPathHintRemoveError> {
+        Ok(())
+    }
+
+    fn create(
+        _name: &FileName,
+        _config: &Configuration,
+        mgmt: &mut MaybeUninit<FutexMgmt>,
+    ) -> Result<Self, ListenerCreateError> {
+        let mgmt = mgmt.write(FutexMgmt {
+            count: AtomicU32::new(0),
+            sleeping: AtomicU32::new(0),
+        });
+        Ok(FutexListener {
+            mgmt,
+            seen: AtomicU32::new(0),
+        })
+    }
+
+    fn try_wait(&self) -> Result<(), ListenerWaitError> {
+        self.catch_up();
+        Ok(())
+    }
+
+    fn timed_wait(&self, timeout: Duration) -> Result<(), ListenerWaitError> {
+        self.sleep(Some(timeout))
+    }
+
+    fn blocking_wait(&self) -> Result<(), ListenerWaitError> {
+        self.sleep(None)
+    }
+
+    fn empty_buffer(&self) -> Result<(), ListenerWaitError> {
+        self.catch_up();
+        Ok(())
+    }
+}
+
+/// Sleep while `word` holds `expected`, at most `timeout`. A signal cuts
+/// the sleep short; a changed word or the timeout simply return.
+fn futex_wait(
+    word: &AtomicU32,
+    expected: u32,
+    timeout: Option<Duration>,
+) -> Result<(), ListenerWaitError> {
+    let ts = timeout.map(|t| libc::timespec {
+        tv_sec: t.as_secs().min(i32::MAX as u64) as libc::time_t,
+        tv_nsec: t.subsec_nanos() as libc::c_long,
+    });
+    let ts_ptr = ts.as_ref().map_or(std::ptr::null(), |t| t as *const _);
+    // SAFETY: `word` is a live, aligned 32-bit atomic; the kernel only
+    // reads it and the timespec. Not FUTEX_PRIVATE: the word is shared
+    // between processes.
+    let r = unsafe {
+        libc::syscall(
+            libc::SYS_futex,
+            word.as_ptr(),
+            libc::FUTEX_WAIT,
+            expected,
+            ts_ptr,
+        )
+    };
+    if r == 0 {
+        return Ok(());
+    }
+    match std::io::Error::last_os_error().raw_os_error() {
+        Some(libc::EAGAIN) | Some(libc::ETIMEDOUT) => Ok(()),
+        Some(libc::EINTR) => Err(ListenerWaitError::InterruptSignal),
+        _ => Err(ListenerWaitError::InternalFailure),
+    }
+}
+
+/// Wake the one listener sleeping on `word`.
+fn futex_wake(word: &AtomicU32) {
+    // SAFETY: as in `futex_wait`; waking nobody is harmless.
+    unsafe {
+        libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAKE, 1);
+    }
+}
