@@ -227,3 +227,59 @@ fn futex_wake(word: &AtomicU32) {
         libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAKE, 1);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::channel::{self, block};
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+    use std::sync::Arc;
+    use std::time::{Duration, Instant};
+
+    /// Two threads take turns through two events, each sleeping on its own
+    /// until the other's turn is done: every turn is handed over by one
+    /// notification that comes while the listener looks or sleeps. A lost
+    /// notification leaves a sleeper to its timeout, so no sleep may last
+    /// that long (the first that does stops both sides), and every turn is
+    /// seen.
+    #[test]
+    fn no_notification_is_lost_between_a_look_and_a_sleep() {
+        const TURNS: u64 = 20_000;
+        const SLICE: Duration = Duration::from_millis(500);
+        let name = format!("futex-test-{}", std::process::id());
+        let turn = Arc::new(AtomicU64::new(0));
+        let lost = Arc::new(AtomicBool::new(false));
+        let side = |me: u64| {
+            let (name, turn, lost) = (name.clone(), turn.clone(), lost.clone());
+            move || {
+                let node = channel::node(&format!("{name}-{me}")).unwrap();
+                let mine = channel::listener(&node, &format!("{name}/wake{me}")).unwrap();
+                let theirs = channel::notifier(&node, &format!("{name}/wake{}", 1 - me)).unwrap();
+                for t in (me..2 * TURNS).step_by(2) {
+                    // Look, then sleep: as a participant's wait does.
+                    while turn.load(Ordering::SeqCst) != t {
+                        let slept = Instant::now();
+                        block(&mine, SLICE).unwrap();
+                        if slept.elapsed() >= SLICE / 2 {
+                            lost.store(true, Ordering::SeqCst);
+                        }
+                        if lost.load(Ordering::SeqCst) {
+                            theirs.notify().unwrap();
+                            return;
+                        }
+                    }
+                    turn.store(t + 1, Ordering::SeqCst);
+                    theirs.notify().unwrap();
+                }
+            }
+        };
+        let (a, b) = (std::thread::spawn(side(0)), std::thread::spawn(side(1)));
+        a.join().unwrap();
+        b.join().unwrap();
+        assert!(
+            !lost.load(Ordering::SeqCst),
+            "a sleep lasted {SLICE:?}/2 or more at turn {}: a notification was lost",
+            turn.load(Ordering::SeqCst)
+        );
+        assert_eq!(turn.load(Ordering::SeqCst), 2 * TURNS);
+    }
+}
