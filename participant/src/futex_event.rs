@@ -14,6 +14,7 @@
 //! sleeps, so a notification between the listener's look and its sleep
 //! makes the sleep return at once.
 
+use crate::futex;
 use iceoryx2_bb_elementary_traits::testing::abandonable::Abandonable;
 use iceoryx2_bb_elementary_traits::zero_copy_send::ZeroCopySend;
 use iceoryx2_bb_lock_free::mpmc::counting_bit_set::RelocatableCountingBitSet;
@@ -99,7 +100,10 @@ impl FutexListener {
         // after this look sees the flag and wakes the futex.
         m.sleeping.store(1, Ordering::SeqCst);
         let result = match m.count.load(Ordering::SeqCst) == seen {
-            true => futex_wait(&m.count, seen, timeout),
+            true => futex::wait(&m.count, seen, timeout).map_err(|cut| match cut {
+                futex::Cut::Signal => ListenerWaitError::InterruptSignal,
+                futex::Cut::Refused(_) => ListenerWaitError::InternalFailure,
+            }),
             false => Ok(()),
         };
         m.sleeping.store(0, Ordering::SeqCst);
@@ -129,7 +133,7 @@ impl<E: EventState, S: DynamicStorage<State<E, FutexMgmt>>> HandlerInterface<E, 
         let m = self.mgmt();
         m.count.fetch_add(1, Ordering::SeqCst);
         if m.sleeping.load(Ordering::SeqCst) != 0 {
-            futex_wake(&m.count);
+            futex::wake(&m.count);
         }
         Ok(())
     }
@@ -183,48 +187,6 @@ impl<E: EventState, S: DynamicStorage<State<E, FutexMgmt>>> WaiterInterface<E, F
     fn empty_buffer(&self) -> Result<(), ListenerWaitError> {
         self.catch_up();
         Ok(())
-    }
-}
-
-/// Sleep while `word` holds `expected`, at most `timeout`. A signal cuts
-/// the sleep short; a changed word or the timeout simply return.
-fn futex_wait(
-    word: &AtomicU32,
-    expected: u32,
-    timeout: Option<Duration>,
-) -> Result<(), ListenerWaitError> {
-    let ts = timeout.map(|t| libc::timespec {
-        tv_sec: t.as_secs().min(i32::MAX as u64) as libc::time_t,
-        tv_nsec: t.subsec_nanos() as libc::c_long,
-    });
-    let ts_ptr = ts.as_ref().map_or(std::ptr::null(), |t| t as *const _);
-    // SAFETY: `word` is a live, aligned 32-bit atomic; the kernel only
-    // reads it and the timespec. Not FUTEX_PRIVATE: the word is shared
-    // between processes.
-    let r = unsafe {
-        libc::syscall(
-            libc::SYS_futex,
-            word.as_ptr(),
-            libc::FUTEX_WAIT,
-            expected,
-            ts_ptr,
-        )
-    };
-    if r == 0 {
-        return Ok(());
-    }
-    match std::io::Error::last_os_error().raw_os_error() {
-        Some(libc::EAGAIN) | Some(libc::ETIMEDOUT) => Ok(()),
-        Some(libc::EINTR) => Err(ListenerWaitError::InterruptSignal),
-        _ => Err(ListenerWaitError::InternalFailure),
-    }
-}
-
-/// Wake the one listener sleeping on `word`.
-fn futex_wake(word: &AtomicU32) {
-    // SAFETY: as in `futex_wait`; waking nobody is harmless.
-    unsafe {
-        libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAKE, 1);
     }
 }
 

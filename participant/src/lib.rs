@@ -23,6 +23,7 @@ mod clock;
 mod declaration;
 mod error;
 mod fields;
+pub mod futex;
 mod futex_event;
 mod implicit;
 mod iqn_ils;

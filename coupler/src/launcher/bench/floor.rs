@@ -8,6 +8,7 @@
 //! hand-off between two processes that sleep on a futex and wake each
 //! other, with no library either ([`sleeping_round_trip_us`]).
 
+use participant::futex;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
@@ -89,7 +90,7 @@ pub fn sleeping_round_trip_us() -> Option<f64> {
         for i in 1..=total {
             sleep_until(word, 2 * i - 1);
             word.store(2 * i, Ordering::SeqCst);
-            wake(word);
+            futex::wake(word);
         }
         // SAFETY: ends the child without running the parent's destructors.
         unsafe { libc::_exit(0) };
@@ -101,7 +102,7 @@ pub fn sleeping_round_trip_us() -> Option<f64> {
                 started = Instant::now();
             }
             word.store(2 * i - 1, Ordering::SeqCst);
-            wake(word);
+            futex::wake(word);
             sleep_until(word, 2 * i);
         }
         let elapsed = started.elapsed();
@@ -121,24 +122,6 @@ fn sleep_until(word: &AtomicU32, turn: u32) {
         if now == turn {
             return;
         }
-        // SAFETY: a live, aligned 32-bit atomic in shared memory; the
-        // kernel only reads it.
-        unsafe {
-            libc::syscall(
-                libc::SYS_futex,
-                word.as_ptr(),
-                libc::FUTEX_WAIT,
-                now,
-                std::ptr::null::<libc::timespec>(),
-            );
-        }
-    }
-}
-
-/// Wake the process sleeping on `word`, if any.
-fn wake(word: &AtomicU32) {
-    // SAFETY: as in `sleep_until`.
-    unsafe {
-        libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAKE, 1);
+        let _ = futex::wait(word, now, None);
     }
 }

@@ -18,9 +18,10 @@
 //! which no participant computes, run as the machine is and beside a busy
 //! process (a user's other work: a coupled run must not spin against it),
 //! in turn, `--repeats` times each: each column is the run of median wall
-//! time (this machine's timings move by 2× from one run to the next). Beside it, the floor: the share that the
-//! same number of hand-offs would take if each cost no more than moving
-//! one cache line from core to core ([`floor`]), measured in the same run.
+//! time (this machine's timings move by 2× from one run to the next).
+//! Beside it, the floor: the share that the same number of hand-offs would
+//! take if each cost no more than moving one cache line from core to core
+//! ([`floor`]), measured in the same run.
 
 mod floor;
 mod frontier;
