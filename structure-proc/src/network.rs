@@ -6,8 +6,11 @@
 //! (`model.rs`, [`crate::forces::Loads`]), in the manner of Rapier's step functions.
 
 use crate::forces::assembly::{Assembly, Scratch};
+use crate::forces::damper_batch::DamperBatch;
 use crate::forces::damping::{Damper, Law};
 use crate::forces::delingette::TriangleSprings;
+use crate::forces::kept::Kept;
+use crate::forces::membrane_batch::MembraneBatch;
 pub use crate::forces::spring::Spring;
 use crate::forces::spring_blocks::SpringBlocks;
 
@@ -49,8 +52,15 @@ pub struct Network {
     pub assembly: Assemblies,
     /// The springs' forces block by block of nodes; set by [`Network::prepare`].
     pub spring_blocks: SpringBlocks,
+    /// The membrane's triangles field by field, for the force; set by [`Network::prepare`].
+    pub membrane_batch: MembraneBatch,
+    /// The dampers field by field, for the force; set by [`Network::prepare`].
+    pub damper_batch: DamperBatch,
     /// The slot buffer of the force evaluations, reused from step to step.
     pub scratch: Scratch,
+    /// The force's position-only terms from the last evaluation that kept
+    /// them; forgotten by [`Network::prepare`].
+    pub kept: Kept,
 }
 
 impl Network {
@@ -74,6 +84,9 @@ impl Network {
         }
         self.assembly = assembly(self);
         self.spring_blocks = SpringBlocks::new(&self.springs, self.nodes());
+        self.membrane_batch = MembraneBatch::new(&self.membrane, self.nodes());
+        self.damper_batch = DamperBatch::new(&self.dampers, self.nodes());
+        self.kept = Kept::default();
     }
 }
 
@@ -105,9 +118,12 @@ pub struct Assemblies {
     /// The elastic and viscous elements: springs, membrane edges, dampers
     /// ([`Layout`]), for the Jacobian products.
     pub elements: Assembly,
-    /// The same without the springs (slot 0 is the first membrane edge's),
-    /// for the force, whose springs' part [`SpringBlocks`] sums.
-    pub after_springs: Assembly,
+    /// The membrane's edges alone (slot 0 is the first edge's), and then
+    /// the dampers alone, for the force: the springs' part is
+    /// [`SpringBlocks`]'s. A node adds its membrane slots and then its
+    /// dampers' in the order of `elements`, so the two passes sum as one.
+    pub membrane: Assembly,
+    pub dampers: Assembly,
     /// The pressure triangles.
     pub pressure: Assembly,
 }
@@ -125,19 +141,19 @@ fn assembly(m: &Network) -> Assemblies {
             .flat_map(move |(k, s)| pair(0, k, s.i, s.j))
     };
     // Membrane edges and dampers, their slots counted from `base`.
-    let after_springs = move |base: usize| {
-        let membrane = m.membrane.iter().enumerate().flat_map(move |(k, t)| {
+    let membrane = move |base: usize| {
+        m.membrane.iter().enumerate().flat_map(move |(k, t)| {
             (0..3).flat_map(move |e| {
                 let (a, b) = t.edge(e);
-                pair(at.membrane - base, 3 * k + e, a, b)
+                pair(base, 3 * k + e, a, b)
             })
-        });
-        let dampers = m
-            .dampers
+        })
+    };
+    let dampers = move |base: usize| {
+        m.dampers
             .iter()
             .enumerate()
-            .flat_map(move |(k, d)| pair(at.dampers - base, k, d.i, d.j));
-        membrane.chain(dampers)
+            .flat_map(move |(k, d)| pair(base, k, d.i, d.j))
     };
     let pressure = Assembly::new(m.nodes(), m.triangles.len(), || {
         m.triangles
@@ -146,10 +162,13 @@ fn assembly(m: &Network) -> Assemblies {
             .flat_map(|(k, tri)| tri.map(|n| (n, k, false)))
     });
     Assemblies {
-        elements: Assembly::new(m.nodes(), at.end, || springs().chain(after_springs(0))),
-        after_springs: Assembly::new(m.nodes(), at.end - at.membrane, || {
-            after_springs(at.membrane)
+        elements: Assembly::new(m.nodes(), at.end, || {
+            springs()
+                .chain(membrane(at.membrane))
+                .chain(dampers(at.dampers))
         }),
+        membrane: Assembly::new(m.nodes(), at.dampers - at.membrane, || membrane(0)),
+        dampers: Assembly::new(m.nodes(), at.end - at.dampers, || dampers(0)),
         pressure,
     }
 }

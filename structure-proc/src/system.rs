@@ -17,6 +17,14 @@ pub trait System: Sync {
     /// f ← F(x, v), the total force on every node.
     fn force(&self, x: &[f64], v: &[f64], f: &mut [f64]);
 
+    /// f ← F(x, v), the same bits as [`System::force`], for a scheme that
+    /// evaluates the force again at the same positions with other
+    /// velocities (velocity Verlet: the end of a step and the start of the
+    /// next): the system may keep what depends on x alone for that call.
+    fn force_keeping(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
+        self.force(x, v, f);
+    }
+
     /// out ← (a·K + b·C)·p with K = −∂F/∂x and C = −∂F/∂v at (x, v). Implicit
     /// schemes solve with it by conjugate gradients, so it must be symmetric and
     /// positive semi-definite; it may approximate the true Jacobian (compressed
@@ -34,4 +42,35 @@ pub trait System: Sync {
 
     /// Node pairs coupled by a stiffness k_ij [N/m], for Kang's eq. (55).
     fn couplings(&self) -> &[(usize, usize, f64)];
+}
+
+/// A system whose every force evaluation is computed afresh: what
+/// [`System::force_keeping`] must equal bit for bit, for the tests and the
+/// bench (`benches/parachute.rs`) to compare against.
+pub struct Afresh<'a, S: System>(pub &'a S);
+
+impl<S: System> System for Afresh<'_, S> {
+    fn nodes(&self) -> usize {
+        self.0.nodes()
+    }
+
+    fn inv_mass(&self) -> &[f64] {
+        self.0.inv_mass()
+    }
+
+    fn force(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
+        self.0.force(x, v, f);
+    }
+
+    fn jacobian_product(&self, x: &[f64], v: &[f64], a: f64, b: f64, p: &[f64], out: &mut [f64]) {
+        self.0.jacobian_product(x, v, a, b, p, out);
+    }
+
+    fn jacobian_blocks(&self, x: &[f64], v: &[f64], a: f64, b: f64, out: &mut Vec<Block>) -> bool {
+        self.0.jacobian_blocks(x, v, a, b, out)
+    }
+
+    fn couplings(&self) -> &[(usize, usize, f64)] {
+        self.0.couplings()
+    }
 }

@@ -389,3 +389,83 @@ fn angular_momentum_is_conserved_to_round_off_by_the_symplectic_integrators() {
         }
     }
 }
+
+/// Velocity Verlet keeps the force's position-only terms from the end of a
+/// step to the start of the next (`forces/kept.rs`): its steps give the
+/// same bits as fresh evaluations, on a damped membrane canopy (both
+/// damping laws) under a pressure jump, with a taut string whose damper
+/// acts above a slack length; and what was kept is forgotten when the
+/// network changes and is prepared again (a line's stiffness, as a break
+/// sets it).
+#[test]
+fn kept_position_terms_give_the_fresh_force_bit_for_bit() {
+    use structure_proc::system::Afresh;
+    for law in [Law::RelativeVelocity, Law::Axial] {
+        let mut m = free_canopy(membrane(1e5, 0.3, 1e-4), law);
+        let (i, j) = (0, 400);
+        let span = (0..3)
+            .map(|c| (m.x[3 * j + c] - m.x[3 * i + c]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        m.springs.push(Spring {
+            i,
+            j,
+            k: 30.0,
+            rest: 0.9 * span,
+            tension_only: true,
+            eps: 0.0,
+        });
+        m.dampers.push(Damper {
+            i,
+            j,
+            c: 0.01,
+            slack_below: 0.9 * span,
+        });
+        m.prepare();
+        let jumps: Vec<f64> = (0..m.triangles.len())
+            .map(|k| 5.0 + (k % 7) as f64)
+            .collect();
+        let loads = Loads { pressure: &jumps };
+        let dt = 1e-4;
+        let mut fresh = m.clone();
+        let mut kept_scheme = structure_proc::integrator(Scheme::VelocityVerlet);
+        let mut fresh_scheme = structure_proc::integrator(Scheme::VelocityVerlet);
+        for _ in 0..100 {
+            m.step(kept_scheme.as_mut(), &loads, dt).unwrap();
+            let sys = Dynamics {
+                net: &fresh.net,
+                loads: &loads,
+            };
+            fresh_scheme
+                .step(&Afresh(&sys), dt, &mut fresh.x, &mut fresh.v)
+                .unwrap();
+            fresh.finish_step(fresh_scheme.reaction(), dt);
+        }
+        assert!(
+            m.x == fresh.x && m.v == fresh.v,
+            "{law:?}: kept terms moved the state"
+        );
+        let moved =
+            (0..m.x.len()).any(|k| m.x[k] != free_canopy(membrane(1e5, 0.3, 1e-4), law).x[k]);
+        assert!(moved, "{law:?}: the canopy did not move");
+
+        // The line's stiffness doubled and the network prepared again: the
+        // next kept evaluation at the same positions sees it.
+        let (mut kept, mut again) = (vec![0.0; m.x.len()], vec![0.0; m.x.len()]);
+        let sys = Dynamics {
+            net: &m.net,
+            loads: &loads,
+        };
+        sys.force_keeping(&m.x, &m.v, &mut kept);
+        let last = m.springs.len() - 1;
+        m.springs[last].k *= 2.0;
+        m.prepare();
+        let sys = Dynamics {
+            net: &m.net,
+            loads: &loads,
+        };
+        sys.force_keeping(&m.x, &m.v, &mut kept);
+        sys.force(&m.x, &m.v, &mut again);
+        assert!(kept == again, "{law:?}: a prepared network kept old terms");
+    }
+}

@@ -32,20 +32,36 @@ impl Damper {
     #[inline]
     fn geometry(&self, x: &[f64]) -> Option<Vector3<f64>> {
         let d = point(x, self.j) - point(x, self.i);
-        let l = d.norm();
-        (l > self.slack_below && l > 0.0).then(|| d / l)
+        self.acts(&d).then(|| d / d.norm())
+    }
+
+    /// Whether the damper acts when its ends differ by `d`: its length above
+    /// `slack_below` and above zero. √q > 0 exactly when q > 0, so a
+    /// spring's damper (slack_below = 0) takes no square root.
+    #[inline]
+    fn acts(&self, d: &Vector3<f64>) -> bool {
+        let q = d.norm_squared();
+        if self.slack_below == 0.0 {
+            q > 0.0
+        } else {
+            q.sqrt() > self.slack_below && q > 0.0
+        }
     }
 
     /// The damping force on node i; node j gets its opposite.
     #[inline]
     pub fn force(&self, law: Law, x: &[f64], v: &[f64]) -> Vector3<f64> {
-        let Some(e) = self.geometry(x) else {
+        let d = point(x, self.j) - point(x, self.i);
+        if !self.acts(&d) {
             return Vector3::zeros();
-        };
+        }
         let dv = point(v, self.j) - point(v, self.i);
         match law {
             Law::RelativeVelocity => dv * self.c,
-            Law::Axial => e * (self.c * e.dot(&dv)),
+            Law::Axial => {
+                let e = d / d.norm();
+                e * (self.c * e.dot(&dv))
+            }
         }
     }
 

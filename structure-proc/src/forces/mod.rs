@@ -4,9 +4,12 @@
 //! jump from the fluid or from the porous law (`pressure.rs`), and gravity here.
 
 pub mod assembly;
+pub mod damper_batch;
 pub mod damping;
 pub mod delingette;
 pub mod jacobian;
+pub mod kept;
+pub mod membrane_batch;
 pub mod pressure;
 mod simd;
 pub mod spring;
@@ -61,20 +64,59 @@ fn families<'s>(
 pub fn total_force(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
     let at = checked_layout(m);
     m.spring_blocks.forces(x, |n| weight(m, n), f);
-    // The membrane's and dampers' slots follow the springs' in each node's
-    // sum, as in the network's assembly.
-    if at.end > at.membrane {
-        m.scratch.with(at.end - at.membrane, |slots| {
-            let (membrane, dampers) = slots.split_at_mut(at.dampers - at.membrane);
-            fill(membrane, &m.membrane, |_, t| t.edge_forces(x));
-            match m.damping {
-                Some(law) => fill(dampers, &m.dampers, |_, d| [d.force(law, x, v)]),
-                None => dampers.fill(Slot::ZERO),
-            }
-            m.assembly.after_springs.gather_add(slots, f);
-        });
-    }
+    // Each node adds its membrane slots and then its dampers' after its
+    // springs', as in the network's assembly.
+    m.scratch.with(at.end - at.membrane, |slots| {
+        let (membrane, dampers) = slots.split_at_mut(at.dampers - at.membrane);
+        m.membrane_batch.forces(x, membrane);
+        m.assembly.membrane.gather_add(membrane, f);
+        damper_forces(m, x, v, dampers);
+        m.assembly.dampers.gather_add(dampers, f);
+    });
     add_pressure(m, loads, x, v, f);
+}
+
+/// [`total_force`], the same bits, keeping the terms that read the
+/// positions alone for the next call at the same positions and received
+/// pressure, which then adds only the dampers and the pressure load's
+/// slots to the kept sums ([`kept`]).
+pub fn total_force_keeping(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
+    let at = checked_layout(m);
+    // The pressure jump reads x alone unless the structure applies the porous law.
+    let pressure_kept = m.porous.is_none() && !loads.pressure.is_empty();
+    m.kept.with(|k| {
+        if !k.hold_for(x, loads.pressure) {
+            k.sums.resize(f.len(), 0.0);
+            m.spring_blocks.forces(x, |n| weight(m, n), &mut k.sums);
+            m.scratch.with(at.dampers - at.membrane, |membrane| {
+                m.membrane_batch.forces(x, membrane);
+                m.assembly.membrane.gather_add(membrane, &mut k.sums);
+            });
+            if pressure_kept {
+                k.triangles.resize(m.triangles.len(), Slot::ZERO);
+                pressure_slots(m, loads, x, v, &mut k.triangles);
+            }
+            k.computed_at(x, loads.pressure);
+        }
+        kept::copy(f, &k.sums);
+        m.scratch.with(at.end - at.dampers, |dampers| {
+            damper_forces(m, x, v, dampers);
+            m.assembly.dampers.gather_add(dampers, f);
+        });
+        if pressure_kept {
+            m.assembly.pressure.gather_add(&k.triangles, f);
+        } else {
+            add_pressure(m, loads, x, v, f);
+        }
+    });
+}
+
+/// The dampers' forces at (x, v) into their slots (zero when undamped).
+fn damper_forces(m: &Network, x: &[f64], v: &[f64], slots: &mut [Slot]) {
+    match m.damping {
+        Some(law) => m.damper_batch.forces(law, x, v, slots),
+        None => slots.fill(Slot::ZERO),
+    }
 }
 
 /// The external loads alone, gravity and the pressure jump (the fluid's and
@@ -98,20 +140,26 @@ fn weight(m: &Network, n: usize) -> Slot {
 /// f ← f + the pressure jump's load: the fluid's when one sends it, plus the
 /// porous law's when the structure applies it (`[structure.porous]`).
 fn add_pressure(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
-    let fluid = !loads.pressure.is_empty();
-    if !fluid && m.porous.is_none() {
+    if loads.pressure.is_empty() && m.porous.is_none() {
         return;
     }
     m.scratch.with(m.triangles.len(), |slots| {
-        fill(slots, &m.triangles, |k, tri| {
-            let received = if fluid { loads.pressure[k] } else { 0.0 };
-            let porous = m
-                .porous
-                .as_ref()
-                .map_or(0.0, |p| p.triangle_jump(x, v, tri));
-            [pressure::vertex_load(x, tri, received + porous)]
-        });
+        pressure_slots(m, loads, x, v, slots);
         m.assembly.pressure.gather_add(slots, f);
+    });
+}
+
+/// Each canopy triangle's share of the pressure load on each of its
+/// vertices, into its slot.
+fn pressure_slots(m: &Network, loads: &Loads, x: &[f64], v: &[f64], slots: &mut [Slot]) {
+    let fluid = !loads.pressure.is_empty();
+    fill(slots, &m.triangles, |k, tri| {
+        let received = if fluid { loads.pressure[k] } else { 0.0 };
+        let porous = m
+            .porous
+            .as_ref()
+            .map_or(0.0, |p| p.triangle_jump(x, v, tri));
+        [pressure::vertex_load(x, tri, received + porous)]
     });
 }
 
@@ -120,12 +168,16 @@ fn checked_layout(m: &Network) -> Layout {
     let at = Layout::of(m);
     let Assemblies {
         elements,
-        after_springs,
+        membrane,
+        dampers,
         pressure,
     } = &m.assembly;
     assert!(
         at.end == elements.slots()
-            && at.end - at.membrane == after_springs.slots()
+            && at.dampers - at.membrane == membrane.slots()
+            && 3 * m.membrane_batch.len() == membrane.slots()
+            && m.damper_batch.len() == dampers.slots()
+            && at.end - at.dampers == dampers.slots()
             && m.spring_blocks.springs() == m.springs.len()
             && m.triangles.len() == pressure.slots()
             && m.nodes() == elements.nodes(),
@@ -145,6 +197,10 @@ impl System for Dynamics<'_> {
 
     fn force(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
         total_force(self.net, self.loads, x, v, f);
+    }
+
+    fn force_keeping(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
+        total_force_keeping(self.net, self.loads, x, v, f);
     }
 
     /// The elastic and viscous terms and the porous load's resistance to

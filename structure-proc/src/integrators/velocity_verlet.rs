@@ -20,10 +20,12 @@ impl Integrator for VelocityVerlet {
     ) -> Result<(), StepError> {
         let ([f0, f1, vp], reaction) = self.0.begin(x.len());
         let inv_mass = sys.inv_mass();
-        sys.force(x, v, f0);
+        // The end of the last step's force was at these positions: the
+        // system may reuse its position-only terms (forces/kept.rs).
+        sys.force_keeping(x, v, f0);
         kicked(vp, v, f0, inv_mass, h); // predictor for (39)
         kick_drift(x, v, f0, inv_mass, (0.5 * h, h), reaction); // (37), then (38)
-        sys.force(x, vp, f1); // (39)
+        sys.force_keeping(x, vp, f1); // (39)
         kick(v, f1, inv_mass, 0.5 * h, reaction); // (40)
         Ok(())
     }
