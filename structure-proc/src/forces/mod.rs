@@ -62,17 +62,12 @@ fn families<'s>(
 /// what the structure exerts on the rigid body. Elements run in parallel (see
 /// [`assembly`](mod@assembly)); the sum is the same on any number of threads.
 pub fn total_force(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
-    let at = checked_layout(m);
+    checked_layout(m);
     m.spring_blocks.forces(x, |n| weight(m, n), f);
     // Each node adds its membrane slots and then its dampers' after its
     // springs', as in the network's assembly.
-    m.scratch.with(at.end - at.membrane, |slots| {
-        let (membrane, dampers) = slots.split_at_mut(at.dampers - at.membrane);
-        m.membrane_batch.forces(x, membrane);
-        m.assembly.membrane.gather_add(membrane, f);
-        damper_forces(m, x, v, dampers);
-        m.assembly.dampers.gather_add(dampers, f);
-    });
+    add_membrane(m, x, f);
+    add_dampers(m, x, v, f);
     add_pressure(m, loads, x, v, f);
 }
 
@@ -81,17 +76,14 @@ pub fn total_force(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f6
 /// pressure, which then adds only the dampers and the pressure load's
 /// slots to the kept sums ([`kept`]).
 pub fn total_force_keeping(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: &mut [f64]) {
-    let at = checked_layout(m);
+    checked_layout(m);
     // The pressure jump reads x alone unless the structure applies the porous law.
     let pressure_kept = m.porous.is_none() && !loads.pressure.is_empty();
     m.kept.with(|k| {
         if !k.hold_for(x, loads.pressure) {
             k.sums.resize(f.len(), 0.0);
             m.spring_blocks.forces(x, |n| weight(m, n), &mut k.sums);
-            m.scratch.with(at.dampers - at.membrane, |membrane| {
-                m.membrane_batch.forces(x, membrane);
-                m.assembly.membrane.gather_add(membrane, &mut k.sums);
-            });
+            add_membrane(m, x, &mut k.sums);
             if pressure_kept {
                 k.triangles.resize(m.triangles.len(), Slot::ZERO);
                 pressure_slots(m, loads, x, v, &mut k.triangles);
@@ -99,10 +91,7 @@ pub fn total_force_keeping(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: 
             k.computed_at(x, loads.pressure);
         }
         kept::copy(f, &k.sums);
-        m.scratch.with(at.end - at.dampers, |dampers| {
-            damper_forces(m, x, v, dampers);
-            m.assembly.dampers.gather_add(dampers, f);
-        });
+        add_dampers(m, x, v, f);
         if pressure_kept {
             m.assembly.pressure.gather_add(&k.triangles, f);
         } else {
@@ -111,12 +100,29 @@ pub fn total_force_keeping(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: 
     });
 }
 
-/// The dampers' forces at (x, v) into their slots (zero when undamped).
-fn damper_forces(m: &Network, x: &[f64], v: &[f64], slots: &mut [Slot]) {
-    match m.damping {
-        Some(law) => m.damper_batch.forces(law, x, v, slots),
-        None => slots.fill(Slot::ZERO),
+/// f ← f + the membrane's edge forces at `x`.
+fn add_membrane(m: &Network, x: &[f64], f: &mut [f64]) {
+    if m.membrane.is_empty() {
+        return;
     }
+    m.scratch.with(3 * m.membrane.len(), |slots| {
+        m.membrane_batch.forces(x, slots);
+        m.assembly.membrane.gather_add(slots, f);
+    });
+}
+
+/// f ← f + the dampers' forces at (x, v) (zero when undamped).
+fn add_dampers(m: &Network, x: &[f64], v: &[f64], f: &mut [f64]) {
+    if m.dampers.is_empty() {
+        return;
+    }
+    m.scratch.with(m.dampers.len(), |slots| {
+        match m.damping {
+            Some(law) => m.damper_batch.forces(law, x, v, slots),
+            None => slots.fill(Slot::ZERO),
+        }
+        m.assembly.dampers.gather_add(slots, f);
+    });
 }
 
 /// The external loads alone, gravity and the pressure jump (the fluid's and
