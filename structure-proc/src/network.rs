@@ -69,8 +69,10 @@ impl Network {
     }
 
     /// Derive what the integrators read from the nodes and elements: the
-    /// inverse masses, the stiffness couplings and the force assembly. Call after building or
-    /// changing nodes and elements.
+    /// inverse masses, the stiffness couplings, the force assembly and its
+    /// batches, and forget the force's kept terms (`forces/kept.rs`). Call
+    /// after building or changing anything here: nodes (masses, kinds),
+    /// elements, gravity, the porous law.
     pub fn prepare(&mut self) {
         self.inv_mass = (0..self.nodes())
             .map(|n| match self.kind[n] {

@@ -121,9 +121,10 @@ mod tests {
             let mut out = vec![Slot([f64::NAN; 4]); dampers.len()];
             batch.forces(law, &x, &v, &mut out);
             for (k, d) in dampers.iter().enumerate() {
+                let expected = Slot::from(d.force(law, &x, &v)).0.map(f64::to_bits);
                 assert_eq!(
-                    out[k],
-                    Slot::from(d.force(law, &x, &v)),
+                    out[k].0.map(f64::to_bits),
+                    expected,
                     "{law:?} damper {k}: {d:?}"
                 );
             }

@@ -46,6 +46,11 @@ impl Terms {
         self.valid && same_bits(&self.x, x) && same_bits(&self.pressure, pressure)
     }
 
+    /// Mark the terms as not computed at any positions.
+    pub(super) fn forget(&mut self) {
+        self.valid = false;
+    }
+
     /// Mark the terms as computed at `x` under `pressure`.
     pub(super) fn computed_at(&mut self, x: &[f64], pressure: &[f64]) {
         self.x.resize(x.len(), 0.0);

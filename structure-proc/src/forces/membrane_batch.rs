@@ -127,8 +127,12 @@ mod tests {
         batch.forces(&x, &mut out);
         assert!(triangles.len() > 2 * GRAIN && triangles.len() % 4 != 0);
         for (k, t) in triangles.iter().enumerate() {
-            let expected = t.edge_forces(&x).map(Slot::from);
-            assert_eq!(out[3 * k..3 * k + 3], expected, "triangle {k}: {t:?}");
+            let expected = t.edge_forces(&x).map(|f| Slot::from(f).0.map(f64::to_bits));
+            let got: Vec<[u64; 4]> = out[3 * k..3 * k + 3]
+                .iter()
+                .map(|s| s.0.map(f64::to_bits))
+                .collect();
+            assert_eq!(got, expected, "triangle {k}: {t:?}");
         }
         assert!(
             out.iter().all(|s| s.0[0] != 0.0 || s.0[1] != 0.0),

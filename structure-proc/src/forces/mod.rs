@@ -81,6 +81,8 @@ pub fn total_force_keeping(m: &Network, loads: &Loads, x: &[f64], v: &[f64], f: 
     let pressure_kept = m.porous.is_none() && !loads.pressure.is_empty();
     m.kept.with(|k| {
         if !k.hold_for(x, loads.pressure) {
+            // Not valid until filled: a panic halfway leaves nothing to reuse.
+            k.forget();
             k.sums.resize(f.len(), 0.0);
             m.spring_blocks.forces(x, |n| weight(m, n), &mut k.sums);
             add_membrane(m, x, &mut k.sums);

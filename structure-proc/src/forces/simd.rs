@@ -259,6 +259,7 @@ mod avx2 {
     ) {
         let whole = out.len() / 4 * 4;
         let zero = _mm256_setzero_pd();
+        let keep_xyz = _mm256_castsi256_pd(xyz());
         for g in (0..whole).step_by(4) {
             let t = first + g;
             let at = |s: &[f64], n: u32| _mm256_maskload_pd(s.as_ptr().add(3 * n as usize), xyz());
@@ -279,7 +280,8 @@ mod avx2 {
             let o = out.as_mut_ptr().add(g) as *mut f64;
             for k in 0..4 {
                 let f = _mm256_mul_pd(ends(v, k), lane(c, k));
-                let on = lane(acts, k);
+                // Zero where the damper idles, and in the fourth lane.
+                let on = _mm256_and_pd(lane(acts, k), keep_xyz);
                 _mm256_store_pd(o.add(4 * k), _mm256_and_pd(f, on));
             }
         }
