@@ -71,6 +71,7 @@ fn parallel_force_is_balanced_and_independent_of_the_thread_count() {
         m.step(stepper.as_mut(), &Loads::default(), dt).unwrap();
     }
     m.gravity = [0.0; 3];
+    m.prepare();
     let force_on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
