@@ -6,8 +6,8 @@
 //! and at the start of the next, at (x_{n+1}, v_{n+1}). Only the dampers
 //! (and a porous load the structure applies itself) read the velocities;
 //! the springs, the membrane's triangles, gravity and the fluid's pressure
-//! jump read x alone, and on the C-9 they are three quarters of the force's
-//! time. [`Kept`] holds each node's sum of them from the first evaluation
+//! jump read x alone, and on the C-9 they take about half of the force's
+//! time (`cargo bench -p structure-proc --bench parachute`). [`Kept`] holds each node's sum of them from the first evaluation
 //! (a node adds its dampers' slots after those terms', see
 //! [`crate::network::Assemblies`]), and the pressure load's slots; the
 //! second evaluation adds the dampers' new slots and the pressure's to the
@@ -17,7 +17,7 @@
 //! computed from (both compared bit for bit: a collision pass, a moved
 //! attachment or a new try's load simply misses) and for the network it
 //! was computed on: [`crate::Network::prepare`], which every change of the
-//! network calls, forgets it.
+//! network must call, forgets it.
 
 use super::assembly::{Slot, GRAIN};
 use rayon::prelude::*;
