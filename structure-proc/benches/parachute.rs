@@ -37,11 +37,6 @@ fn section() -> structure_section::Scene {
         .expect("shipped scenario")
 }
 
-/// The scene's integrator.
-fn scheme_of() -> structure_section::Scheme {
-    section().structure.scheme()
-}
-
 fn scene() -> (Model, Scheme, f64, u32) {
     let s = section();
     let coupling = &s.scenario.coupling;
@@ -101,23 +96,21 @@ fn main() {
             .num_threads(threads)
             .build()
             .expect("thread pool");
-        pool.install(|| row(threads, &m0, &loads, h, n * windows));
+        pool.install(|| row(threads, &loads, h, n * windows));
     }
 }
 
-/// Seconds per sub-step over `steps` sub-steps from `m0`'s state, the
-/// force kept between evaluations or (`fresh`) not.
-fn substeps(m0: &Model, loads: &Loads, h: f64, steps: u32, fresh: bool) -> (f64, Model) {
+/// Seconds per sub-step over `steps` sub-steps from the scene's start,
+/// the force kept between evaluations or (`fresh`) not.
+fn substeps(loads: &Loads, h: f64, steps: u32, fresh: bool) -> (f64, Model) {
     let (mut m, mut scheme, _, _) = scene();
-    m.x.clone_from(&m0.x);
-    let mut integrator = structure_proc::integrator(scheme_of());
     let start = Instant::now();
     for _ in 0..steps {
         if fresh {
             let sys = Dynamics { net: &m.net, loads };
-            let sys = Afresh(&sys);
+            let integrator = scheme.integrator.as_mut();
             integrator
-                .step(&sys, h, &mut m.x, &mut m.v)
+                .step(&Afresh(&sys), h, &mut m.x, &mut m.v)
                 .expect("sub-step");
             m.finish_step(integrator.reaction(), h);
         } else {
@@ -129,12 +122,12 @@ fn substeps(m0: &Model, loads: &Loads, h: f64, steps: u32, fresh: bool) -> (f64,
 
 /// One row: a sub-step afresh and kept (each the faster of two runs,
 /// alternated), then the force and its parts at the state reached.
-fn row(threads: usize, m0: &Model, loads: &Loads, h: f64, steps: u32) {
+fn row(threads: usize, loads: &Loads, h: f64, steps: u32) {
     let (mut fresh, mut kept) = (f64::INFINITY, f64::INFINITY);
     let mut m = Model::default();
     for _ in 0..2 {
-        fresh = fresh.min(substeps(m0, loads, h, steps, true).0);
-        let (t, reached) = substeps(m0, loads, h, steps, false);
+        fresh = fresh.min(substeps(loads, h, steps, true).0);
+        let (t, reached) = substeps(loads, h, steps, false);
         (kept, m) = (kept.min(t), reached);
     }
     let net = &m.net;

@@ -32,15 +32,16 @@ impl Damper {
     #[inline]
     fn geometry(&self, x: &[f64]) -> Option<Vector3<f64>> {
         let d = point(x, self.j) - point(x, self.i);
-        self.acts(&d).then(|| d / d.norm())
+        let q = d.norm_squared();
+        // d.norm() is q.sqrt(), the same bits.
+        self.acts(q).then(|| d / q.sqrt())
     }
 
-    /// Whether the damper acts when its ends differ by `d`: its length above
-    /// `slack_below` and above zero. √q > 0 exactly when q > 0, so a
+    /// Whether the damper acts when its ends are q = l² apart: its length
+    /// above `slack_below` and above zero. √q > 0 exactly when q > 0, so a
     /// spring's damper (slack_below = 0) takes no square root.
     #[inline]
-    fn acts(&self, d: &Vector3<f64>) -> bool {
-        let q = d.norm_squared();
+    fn acts(&self, q: f64) -> bool {
         if self.slack_below == 0.0 {
             q > 0.0
         } else {
@@ -52,14 +53,15 @@ impl Damper {
     #[inline]
     pub fn force(&self, law: Law, x: &[f64], v: &[f64]) -> Vector3<f64> {
         let d = point(x, self.j) - point(x, self.i);
-        if !self.acts(&d) {
+        let q = d.norm_squared();
+        if !self.acts(q) {
             return Vector3::zeros();
         }
         let dv = point(v, self.j) - point(v, self.i);
         match law {
             Law::RelativeVelocity => dv * self.c,
             Law::Axial => {
-                let e = d / d.norm();
+                let e = d / q.sqrt();
                 e * (self.c * e.dot(&dv))
             }
         }

@@ -115,13 +115,15 @@ mod avx2 {
         _mm256_setr_epi64x(-1, -1, -1, 0)
     }
 
-    /// The four springs' end-point differences x_j − x_i, as (x, y, z, 0).
+    /// The differences x_j − x_i of elements g..g + 4 with ends `i` and
+    /// `j` (springs' or dampers'), as (x, y, z, 0); `x` may be positions or
+    /// velocities.
     #[inline(always)]
-    unsafe fn differences(s: &SpringBatch, x: &[f64], g: usize) -> [__m256d; 4] {
+    unsafe fn differences(i: &[u32], j: &[u32], x: &[f64], g: usize) -> [__m256d; 4] {
         let at = |n: u32| x.as_ptr().add(3 * n as usize);
         std::array::from_fn(|k| {
-            let a = _mm256_maskload_pd(at(*s.i.get_unchecked(g + k)), xyz());
-            let b = _mm256_maskload_pd(at(*s.j.get_unchecked(g + k)), xyz());
+            let a = _mm256_maskload_pd(at(*i.get_unchecked(g + k)), xyz());
+            let b = _mm256_maskload_pd(at(*j.get_unchecked(g + k)), xyz());
             _mm256_sub_pd(b, a)
         })
     }
@@ -180,7 +182,7 @@ mod avx2 {
     pub unsafe fn spring_forces(s: &SpringBatch, x: &[f64], out: &mut [Slot]) {
         let whole = out.len() / 4 * 4;
         for t in (0..whole).step_by(4) {
-            let d = differences(s, x, t);
+            let d = differences(&s.i, &s.j, x, t);
             let p = per_length(s, &d, t);
             let o = out.as_mut_ptr().add(t) as *mut f64;
             _mm256_store_pd(o, _mm256_mul_pd(d[0], _mm256_permute4x64_pd(p, 0x00)));
@@ -262,12 +264,8 @@ mod avx2 {
         let keep_xyz = _mm256_castsi256_pd(xyz());
         for g in (0..whole).step_by(4) {
             let t = first + g;
-            let at = |s: &[f64], n: u32| _mm256_maskload_pd(s.as_ptr().add(3 * n as usize), xyz());
-            let ends = |s: &[f64], k: usize| {
-                let (i, j) = (*b.i.get_unchecked(t + k), *b.j.get_unchecked(t + k));
-                _mm256_sub_pd(at(s, j), at(s, i))
-            };
-            let d: [__m256d; 4] = std::array::from_fn(|k| ends(x, k));
+            let d = differences(&b.i, &b.j, x, t);
+            let dv = differences(&b.i, &b.j, v, t);
             let squared = squared_lengths(&d);
             let slack = _mm256_loadu_pd(b.slack_below.as_ptr().add(t));
             // Damper::acts: l² > 0, and √(l²) > slack unless slack = 0.
@@ -279,7 +277,7 @@ mod avx2 {
             let c = _mm256_loadu_pd(b.c.as_ptr().add(t));
             let o = out.as_mut_ptr().add(g) as *mut f64;
             for k in 0..4 {
-                let f = _mm256_mul_pd(ends(v, k), lane(c, k));
+                let f = _mm256_mul_pd(dv[k], lane(c, k));
                 // Zero where the damper idles, and in the fourth lane.
                 let on = _mm256_and_pd(lane(acts, k), keep_xyz);
                 _mm256_store_pd(o.add(4 * k), _mm256_and_pd(f, on));
