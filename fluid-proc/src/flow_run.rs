@@ -105,9 +105,9 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
             flow.share_frame();
             let n = substeps.max(1);
             let mut report = StepReport::default();
-            for _ in 0..n {
+            for k in 0..n {
                 report = flow
-                    .step(dt / n as f64)
+                    .step_in_window(dt / n as f64, k == 0)
                     .map_err(|e| format!("flow step at t = {} s: {e}", flow.time))?;
             }
             let m = if window_end {
@@ -127,6 +127,9 @@ fn obey(f: &mut Flow, order: Order) -> Result<Done, String> {
             Done::Advanced(m, n as u64, pressure, probed)
         }
         Order::Checkpoint { restore: false } => {
+            // A window may be taken again: its later tries take the
+            // first one's prediction (`prediction.rs`).
+            flow.keep_predictions();
             flow.save(&mut f.checkpoint);
             Done::Checkpoint
         }

@@ -11,6 +11,9 @@
 //! 2. u^{n+1} = u* − Δt∇φ with ∇·u^{n+1} = 0 (`projection.rs`, `poisson.rs`);
 //! 3. p^{n+½} = q + φ − (νΔt/2)∇²φ.
 //!
+//! Step 1 reads the window's start alone: under implicit coupling a
+//! window's later tries take the first try's (`prediction.rs`).
+//!
 //! Pressures here are kinematic (p/ρ, m²/s²); `pressure` gives pascals.
 //! The side velocities are held fixed in time, but in a box that follows
 //! the parachute (`frame.rs`), and u* takes them as its boundary values.
@@ -28,6 +31,7 @@ use crate::immersed::{force, Air, ImmersedBody};
 use crate::padded::Padded;
 use crate::part::{Halo, Part};
 use crate::poisson::{Poisson, SolveError};
+use crate::prediction::{Inputs, Prediction};
 use crate::projection::{gradients, project};
 use crate::rows;
 use crate::side::{bcs, Sides};
@@ -71,6 +75,8 @@ pub struct StepReport {
     /// Wall-clock time of the projection (divergence, solve, update) [s].
     pub pressure_seconds: f64,
     pub viscous_iterations: usize,
+    /// Whether the step took its window's kept prediction (`prediction.rs`).
+    pub kept_prediction: bool,
 }
 
 /// One advected component's work arrays.
@@ -117,6 +123,9 @@ pub struct Incompressible {
     /// its sides as the ground sees them.
     pub frame: Option<Frame>,
     pub(crate) ground_sides: Sides,
+    /// Under implicit coupling, the window's first prediction, for the
+    /// window's later tries (`prediction.rs`); None: none kept.
+    prediction: Option<Prediction>,
 }
 
 impl Incompressible {
@@ -172,6 +181,7 @@ impl Incompressible {
             canopy: None,
             frame: None,
             ground_sides: setup.sides,
+            prediction: None,
             setup,
         };
         flow.impose_sides();
@@ -318,6 +328,19 @@ impl Incompressible {
 
     /// Advances the flow by `dt` [s].
     pub fn step(&mut self, dt: f64) -> Result<StepReport, FlowError> {
+        self.step_in_window(dt, false)
+    }
+
+    /// Implicit coupling: from now on, keep each window's first prediction
+    /// for the window's later tries (`prediction.rs`).
+    pub fn keep_predictions(&mut self) {
+        self.prediction.get_or_insert_with(Prediction::default);
+    }
+
+    /// [`Incompressible::step`]; `first`: the step is its window's first,
+    /// whose prediction a later try of the window takes once
+    /// [`Incompressible::keep_predictions`] was called.
+    pub fn step_in_window(&mut self, dt: f64, first: bool) -> Result<StepReport, FlowError> {
         let courant = self.courant(dt);
         if !courant.is_finite() {
             return Err(FlowError::NonFinite);
@@ -325,7 +348,7 @@ impl Incompressible {
         if courant > MAX_COURANT {
             return Err(FlowError::Courant(courant));
         }
-        let viscous_iterations = self.predict(dt)?;
+        let (viscous_iterations, kept_prediction) = self.predict(dt, first)?;
         self.force_immersed(dt);
         let (pressure_iterations, pressure_seconds) = self.project(dt)?;
         self.last_dt = Some(dt);
@@ -335,23 +358,94 @@ impl Incompressible {
             pressure_iterations,
             pressure_seconds,
             viscous_iterations,
+            kept_prediction,
         })
     }
 
     /// The predicted velocity u* of eq. (3.18): advection by Adams–Bashforth,
     /// viscosity by Crank–Nicolson (a Helmholtz solve per component), the
-    /// last pressure's gradient. Returns the Helmholtz iterations.
-    fn predict(&mut self, dt: f64) -> Result<usize, FlowError> {
+    /// last pressure's gradient; in a box that follows the parachute, the
+    /// frame's acceleration. Returns the Helmholtz iterations, and whether
+    /// the step took the change the window's first try computed: a
+    /// window's `first` step does where it reads the same state
+    /// (`prediction.rs`).
+    fn predict(&mut self, dt: f64, first: bool) -> Result<(usize, bool), FlowError> {
+        for p in self.padded.iter_mut().flatten() {
+            p.load(&self.u);
+            p.fill_ghosts(&self.sides);
+        }
+        self.part.fill_halo(&self.q, &mut self.halo);
+        let predicted = match (first, self.prediction.is_some()) {
+            (true, true) => self.change_kept(dt)?,
+            _ => (self.change(dt)?, false),
+        };
+        self.apply_change(dt);
+        Ok(predicted)
+    }
+
+    /// What step 1 reads, for a kept prediction's check.
+    fn inputs(&self, dt: f64) -> Inputs {
+        let history = std::array::from_fn(|c| match &self.work[c] {
+            Some(w) => (w.n[0].clone(), w.delta.data.clone()),
+            None => (Vec::new(), Vec::new()),
+        });
+        Inputs {
+            dt,
+            last_dt: self.last_dt,
+            sides: self.sides,
+            u: self.u.clone(),
+            q: self.q.clone(),
+            history,
+        }
+    }
+
+    /// [`Incompressible::change`], or the kept one where it was computed
+    /// from the same state (then true); a computed one is kept.
+    fn change_kept(&mut self, dt: f64) -> Result<(usize, bool), FlowError> {
+        let inputs = self.inputs(dt);
+        let mut prediction = self.prediction.take().unwrap_or_default();
+        // Every rank takes its kept change or none does: the solves sum
+        // over the ranks.
+        let miss = !prediction.holds_for(&inputs) as u8 as f64;
+        let result = match self.part.max(miss) == 0.0 {
+            true => {
+                for (w, (n, delta)) in self.work.iter_mut().zip(&prediction.kept) {
+                    if let Some(w) = w {
+                        w.n.rotate_right(1);
+                        w.n[0].copy_from_slice(n);
+                        w.delta.data.copy_from_slice(delta);
+                    }
+                }
+                Ok((prediction.viscous_iterations, true))
+            }
+            false => {
+                prediction.forget();
+                let computed = self.change(dt);
+                if let Ok(iterations) = computed {
+                    for (w, kept) in self.work.iter().zip(&mut prediction.kept) {
+                        if let Some(w) = w {
+                            kept.0.clone_from(&w.n[0]);
+                            kept.1.clone_from(&w.delta.data);
+                        }
+                    }
+                    prediction.viscous_iterations = iterations;
+                    prediction.computed_from(inputs);
+                }
+                computed.map(|iterations| (iterations, false))
+            }
+        };
+        self.prediction = Some(prediction);
+        result
+    }
+
+    /// The change δ = u* − uⁿ of each component over the step, before the
+    /// frame's acceleration, into its work arrays, with Nⁿ.
+    fn change(&mut self, dt: f64) -> Result<usize, FlowError> {
         let grid = &self.local;
         let sides = &self.sides;
         let h = grid.h;
         let nu = self.setup.nu;
-        for p in self.padded.iter_mut().flatten() {
-            p.load(&self.u);
-            p.fill_ghosts(sides);
-        }
         let ab = adams_bashforth(dt, self.last_dt);
-        self.part.fill_halo(&self.q, &mut self.halo);
         let mut viscous_iterations = 0;
         for c in 0..3 {
             let (Some(u), Some(w)) = (&self.padded[c], &mut self.work[c]) else {
@@ -386,6 +480,11 @@ impl Incompressible {
                 VISCOUS_TOLERANCE,
             )?;
         }
+        Ok(viscous_iterations)
+    }
+
+    /// u* = uⁿ + δ less the frame's acceleration over the step.
+    fn apply_change(&mut self, dt: f64) {
         // A box that follows the parachute accelerates: the air takes the
         // frame's body force −a·Δt, and the sides their velocities at the
         // step's end (`frame.rs`).
@@ -405,7 +504,6 @@ impl Incompressible {
             u.fill_ghosts(sides);
             u.store(&mut self.u);
         }
-        Ok(viscous_iterations)
     }
 
     /// The bodies' and canopy's direct forcing on u*, before the projection,

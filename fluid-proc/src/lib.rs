@@ -73,6 +73,7 @@ pub mod multigrid;
 pub mod padded;
 pub mod part;
 pub mod poisson;
+pub mod prediction;
 pub mod pressure_force;
 pub mod probe;
 pub mod profile;

@@ -1,0 +1,82 @@
+//! A window's predicted velocity, kept for the window's later tries under
+//! implicit coupling.
+//!
+//! Step 1 of the projection method (`incompressible.rs`), the predicted
+//! change δ = u* − uⁿ from the advection term Nⁿ, the viscous solves and
+//! the last pressure's gradient, reads the window's start alone. The
+//! interface enters after it: the canopy's and bodies' markers in the
+//! forcing, the canopy's velocity in the frame's acceleration, both in the
+//! projection. A try after the first starts from the same state, so it can
+//! take the first try's Nⁿ and δ instead of computing them again (the
+//! advection and the three Helmholtz solves, about 40 % of a step on the
+//! C-9). It does so only after checking, bit for bit, that it reads what
+//! the first try read: the velocities, the pressure, the step history (the
+//! last advection term and the solves' first guess), the sides and the two
+//! step lengths. A kept prediction therefore gives the very bits a fresh
+//! one would.
+
+use crate::faces::Faces;
+use crate::side::Sides;
+
+/// What step 1 reads beyond the constant grid and viscosity.
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    pub dt: f64,
+    pub last_dt: Option<f64>,
+    pub sides: Sides,
+    pub u: Faces,
+    pub q: Vec<f64>,
+    /// Per component, the history it starts from: Nⁿ⁻¹ and the viscous
+    /// solve's first guess (empty for a component not advanced).
+    pub history: [(Vec<f64>, Vec<f64>); 3],
+}
+
+impl Inputs {
+    /// Whether `self` and `other` hold the same bits.
+    fn same(&self, other: &Inputs) -> bool {
+        let history = self
+            .history
+            .iter()
+            .zip(&other.history)
+            .all(|(a, b)| same_bits(&a.0, &b.0) && same_bits(&a.1, &b.1));
+        self.dt.to_bits() == other.dt.to_bits()
+            && self.last_dt.map(f64::to_bits) == other.last_dt.map(f64::to_bits)
+            && self.sides == other.sides
+            && self.u.n == other.u.n
+            && (0..3).all(|c| same_bits(&self.u.u[c], &other.u.u[c]))
+            && same_bits(&self.q, &other.q)
+            && history
+    }
+}
+
+/// The window's first prediction and what it was computed from.
+#[derive(Debug, Clone, Default)]
+pub struct Prediction {
+    from: Option<Inputs>,
+    /// Per component: Nⁿ and δ (padded, as `Work` holds them).
+    pub kept: [(Vec<f64>, Vec<f64>); 3],
+    pub viscous_iterations: usize,
+}
+
+impl Prediction {
+    /// Whether the kept prediction was computed from `inputs`.
+    pub fn holds_for(&self, inputs: &Inputs) -> bool {
+        self.from.as_ref().is_some_and(|f| f.same(inputs))
+    }
+
+    /// Nothing kept: the next prediction is computed.
+    pub fn forget(&mut self) {
+        self.from = None;
+    }
+
+    /// Keep what was computed from `inputs`: the caller then fills
+    /// [`Prediction::kept`] and the iterations.
+    pub fn computed_from(&mut self, inputs: Inputs) {
+        self.from = Some(inputs);
+    }
+}
+
+/// Whether `a` and `b` hold the same bits (−0 is not +0, a NaN is itself).
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
