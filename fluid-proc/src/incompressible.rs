@@ -31,7 +31,7 @@ use crate::immersed::{force, Air, ImmersedBody};
 use crate::padded::Padded;
 use crate::part::{Halo, Part};
 use crate::poisson::{Poisson, SolveError};
-use crate::prediction::{Inputs, Prediction};
+use crate::prediction::{Inputs, Prediction, State};
 use crate::projection::{gradients, project};
 use crate::rows;
 use crate::side::{bcs, Sides};
@@ -384,17 +384,17 @@ impl Incompressible {
     }
 
     /// What step 1 reads, for a kept prediction's check.
-    fn inputs(&self, dt: f64) -> Inputs {
+    fn state(&self, dt: f64) -> State<'_> {
         let history = std::array::from_fn(|c| match &self.work[c] {
-            Some(w) => (w.n[0].clone(), w.delta.data.clone()),
-            None => (Vec::new(), Vec::new()),
+            Some(w) => (w.n[0].as_slice(), w.delta.data.as_slice()),
+            None => (&[][..], &[][..]),
         });
-        Inputs {
+        State {
             dt,
             last_dt: self.last_dt,
-            sides: self.sides,
-            u: self.u.clone(),
-            q: self.q.clone(),
+            sides: &self.sides,
+            u: &self.u,
+            q: &self.q,
             history,
         }
     }
@@ -402,11 +402,10 @@ impl Incompressible {
     /// [`Incompressible::change`], or the kept one where it was computed
     /// from the same state (then true); a computed one is kept.
     fn change_kept(&mut self, dt: f64) -> Result<(usize, bool), FlowError> {
-        let inputs = self.inputs(dt);
         let mut prediction = self.prediction.take().unwrap_or_default();
         // Every rank takes its kept change or none does: the solves sum
         // over the ranks.
-        let miss = !prediction.holds_for(&inputs) as u8 as f64;
+        let miss = !prediction.holds_for(&self.state(dt)) as u8 as f64;
         let result = match self.part.max(miss) == 0.0 {
             true => {
                 for (w, (n, delta)) in self.work.iter_mut().zip(&prediction.kept) {
@@ -420,6 +419,7 @@ impl Incompressible {
             }
             false => {
                 prediction.forget();
+                let inputs = Inputs::of(&self.state(dt));
                 let computed = self.change(dt);
                 if let Ok(iterations) = computed {
                     for (w, kept) in self.work.iter().zip(&mut prediction.kept) {

@@ -18,33 +18,55 @@
 use crate::faces::Faces;
 use crate::side::Sides;
 
-/// What step 1 reads beyond the constant grid and viscosity.
-#[derive(Debug, Clone)]
-pub struct Inputs {
+/// What step 1 reads beyond the constant grid and viscosity, in place.
+pub struct State<'a> {
     pub dt: f64,
     pub last_dt: Option<f64>,
-    pub sides: Sides,
-    pub u: Faces,
-    pub q: Vec<f64>,
+    pub sides: &'a Sides,
+    pub u: &'a Faces,
+    pub q: &'a [f64],
     /// Per component, the history it starts from: Nⁿ⁻¹ and the viscous
     /// solve's first guess (empty for a component not advanced).
-    pub history: [(Vec<f64>, Vec<f64>); 3],
+    pub history: [(&'a [f64], &'a [f64]); 3],
+}
+
+/// A [`State`] kept: what a kept prediction was computed from.
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    dt: f64,
+    last_dt: Option<f64>,
+    sides: Sides,
+    u: Faces,
+    q: Vec<f64>,
+    history: [(Vec<f64>, Vec<f64>); 3],
 }
 
 impl Inputs {
-    /// Whether `self` and `other` hold the same bits.
-    fn same(&self, other: &Inputs) -> bool {
+    /// A copy of `state`, taken before anything is computed from it.
+    pub fn of(state: &State) -> Inputs {
+        Inputs {
+            dt: state.dt,
+            last_dt: state.last_dt,
+            sides: *state.sides,
+            u: state.u.clone(),
+            q: state.q.to_vec(),
+            history: state.history.map(|(n, g)| (n.to_vec(), g.to_vec())),
+        }
+    }
+
+    /// Whether `state` holds the same bits as `self`.
+    fn same(&self, state: &State) -> bool {
         let history = self
             .history
             .iter()
-            .zip(&other.history)
-            .all(|(a, b)| same_bits(&a.0, &b.0) && same_bits(&a.1, &b.1));
-        self.dt.to_bits() == other.dt.to_bits()
-            && self.last_dt.map(f64::to_bits) == other.last_dt.map(f64::to_bits)
-            && self.sides == other.sides
-            && self.u.n == other.u.n
-            && (0..3).all(|c| same_bits(&self.u.u[c], &other.u.u[c]))
-            && same_bits(&self.q, &other.q)
+            .zip(&state.history)
+            .all(|(a, b)| same_bits(&a.0, b.0) && same_bits(&a.1, b.1));
+        self.dt.to_bits() == state.dt.to_bits()
+            && self.last_dt.map(f64::to_bits) == state.last_dt.map(f64::to_bits)
+            && self.sides == *state.sides
+            && self.u.n == state.u.n
+            && (0..3).all(|c| same_bits(&self.u.u[c], &state.u.u[c]))
+            && same_bits(&self.q, state.q)
             && history
     }
 }
@@ -59,9 +81,9 @@ pub struct Prediction {
 }
 
 impl Prediction {
-    /// Whether the kept prediction was computed from `inputs`.
-    pub fn holds_for(&self, inputs: &Inputs) -> bool {
-        self.from.as_ref().is_some_and(|f| f.same(inputs))
+    /// Whether the kept prediction was computed from `state`.
+    pub fn holds_for(&self, state: &State) -> bool {
+        self.from.as_ref().is_some_and(|f| f.same(state))
     }
 
     /// Nothing kept: the next prediction is computed.
