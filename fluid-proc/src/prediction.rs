@@ -11,9 +11,9 @@
 //! advection and the three Helmholtz solves, about 40 % of a step on the
 //! C-9). It does so only after checking, bit for bit, that it reads what
 //! the first try read: the velocities, the pressure, the step history (the
-//! last advection term and the solves' first guess), the sides and the two
-//! step lengths. A kept prediction therefore gives the very bits a fresh
-//! one would.
+//! last advection term and the solves' first guess), the two step lengths,
+//! and the sides' values. A kept prediction therefore gives the very bits a
+//! fresh one would.
 
 use crate::faces::Faces;
 use crate::side::Sides;
@@ -56,18 +56,17 @@ impl Inputs {
 
     /// Whether `state` holds the same bits as `self`.
     fn same(&self, state: &State) -> bool {
-        let history = self
-            .history
-            .iter()
-            .zip(&state.history)
-            .all(|(a, b)| same_bits(&a.0, b.0) && same_bits(&a.1, b.1));
+        let history = |(a, b): (&(Vec<f64>, Vec<f64>), &(&[f64], &[f64]))| {
+            same_bits(&a.0, b.0) && same_bits(&a.1, b.1)
+        };
+        // The cheap checks first; the first differing value ends a scan.
         self.dt.to_bits() == state.dt.to_bits()
             && self.last_dt.map(f64::to_bits) == state.last_dt.map(f64::to_bits)
             && self.sides == *state.sides
             && self.u.n == state.u.n
-            && (0..3).all(|c| same_bits(&self.u.u[c], &state.u.u[c]))
             && same_bits(&self.q, state.q)
-            && history
+            && (0..3).all(|c| same_bits(&self.u.u[c], &state.u.u[c]))
+            && self.history.iter().zip(&state.history).all(history)
     }
 }
 
@@ -91,8 +90,8 @@ impl Prediction {
         self.from = None;
     }
 
-    /// Keep what was computed from `inputs`: the caller then fills
-    /// [`Prediction::kept`] and the iterations.
+    /// `inputs` are what [`Prediction::kept`] and the iterations, which
+    /// the caller has just filled, were computed from.
     pub fn computed_from(&mut self, inputs: Inputs) {
         self.from = Some(inputs);
     }
