@@ -7,7 +7,8 @@
 //! (and a porous load the structure applies itself) read the velocities;
 //! the springs, the membrane's triangles, gravity and the fluid's pressure
 //! jump read x alone, and on the C-9 they take about half of the force's
-//! time (`cargo bench -p structure-proc --bench parachute`). [`Kept`] holds each node's sum of them from the first evaluation
+//! time (`cargo bench -p structure-proc --bench parachute`). [`Kept`]
+//! holds each node's sum of them from the first evaluation
 //! (a node adds its dampers' slots after those terms', see
 //! [`crate::network::Assemblies`]), and the pressure load's slots; the
 //! second evaluation adds the dampers' new slots and the pressure's to the
