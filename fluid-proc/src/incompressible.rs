@@ -37,6 +37,7 @@ use crate::rows;
 use crate::side::{bcs, Sides};
 use crate::viscosity::{laplacian, Helmholtz, ViscousError};
 use fluid_section::flow::MAX_COURANT;
+use rayon::prelude::*;
 
 /// Relative residual of the pressure solve.
 pub const PRESSURE_TOLERANCE: f64 = 1e-8;
@@ -91,6 +92,54 @@ struct Work {
     /// δ = u* − uⁿ, kept as the next step's first guess.
     delta: Padded,
     helmholtz: Helmholtz,
+}
+
+/// What step 1 of the projection method reads of the window's start, for
+/// each component's change.
+struct ChangeInputs<'a> {
+    grid: &'a Grid,
+    sides: &'a Sides,
+    padded: &'a [Option<Padded>; 3],
+    q: &'a [f64],
+    halo: &'a Halo,
+    nu: f64,
+    /// Adams–Bashforth's weights of Nⁿ and Nⁿ⁻¹.
+    ab: [f64; 2],
+    dt: f64,
+}
+
+impl ChangeInputs<'_> {
+    /// Component `c`'s change δ into `w.delta`, with Nⁿ; the Helmholtz
+    /// iterations.
+    fn component(&self, c: usize, w: &mut Work) -> Result<usize, ViscousError> {
+        let (grid, h, nu, dt, ab) = (self.grid, self.grid.h, self.nu, self.dt, self.ab);
+        let u = self.padded[c]
+            .as_ref()
+            .expect("a padded array for each worked component");
+        w.n.rotate_right(1);
+        advection(self.padded, c, h, &mut w.flux, &mut w.n[0]);
+        laplacian(u, h, &mut w.lap);
+        // The change over the step solves (I − αL)δ = Δt(−N^{n+½} − ∇q + νLuⁿ),
+        // which is eq. (3.18) less (I − αL)uⁿ.
+        gradients(grid, self.q, self.halo, c, &mut w.grad_q, |g, grad| {
+            *g = grad
+        });
+        let lay = u.lay;
+        let m = lay.m;
+        let ([n0, n1], lap, grad_q) = (&w.n, &w.lap, &w.grad_q);
+        rows::each(&lay, lay.unknown_box(), [&mut w.b], |row, [b]| {
+            let [i0, j, k] = row.first.map(|x| x as usize);
+            let face0 = i0 + m[0] * (j + m[1] * k);
+            for i in 0..row.len {
+                let p = row.at + i;
+                let adv = ab[0] * n0[p] + ab[1] * n1[p];
+                b[row.offset + i] = dt * (-adv - grad_q[face0 + i] + nu * lap[p]);
+            }
+        });
+        let alpha = 0.5 * nu * dt;
+        w.helmholtz
+            .solve(self.sides, h, alpha, &w.b, &mut w.delta, VISCOUS_TOLERANCE)
+    }
 }
 
 pub struct Incompressible {
@@ -225,11 +274,23 @@ impl Incompressible {
     /// repeats (and the faces two ranks share) equal, after the caller set
     /// `u`.
     pub fn impose_sides(&mut self) {
-        for p in self.padded.iter_mut().flatten() {
-            p.load(&self.u);
-            p.fill_ghosts(&self.sides);
-            p.store(&mut self.u);
-        }
+        let (sides, side_by_side) = (&self.sides, self.side_by_side());
+        let mut items: Vec<_> = self.padded.iter_mut().zip(&mut self.u.u).collect();
+        by_component(side_by_side, &mut items, |_, (p, u)| {
+            if let Some(p) = p {
+                p.load_from(u);
+                p.fill_ghosts(sides);
+                p.store_into(u);
+            }
+        });
+    }
+
+    /// Whether the components' work goes side by side (`by_component`): on
+    /// one rank, where a grid is large enough to split its rows among
+    /// threads. Across MPI ranks a component's sums and ghost swaps are
+    /// collective calls, which must come in the same order on every rank.
+    fn side_by_side(&self) -> bool {
+        !self.part.split() && rows::worth_threads(self.local.cells())
     }
 
     /// Rank 0's bodies and canopy, as it last placed them, on every rank:
@@ -370,10 +431,13 @@ impl Incompressible {
     /// window's `first` step does where it reads the same state
     /// (`prediction.rs`).
     fn predict(&mut self, dt: f64, first: bool) -> Result<(usize, bool), FlowError> {
-        for p in self.padded.iter_mut().flatten() {
-            p.load(&self.u);
-            p.fill_ghosts(&self.sides);
-        }
+        let (u, sides) = (&self.u, &self.sides);
+        by_component(self.side_by_side(), &mut self.padded, |_, p| {
+            if let Some(p) = p {
+                p.load(u);
+                p.fill_ghosts(sides);
+            }
+        });
         self.part.fill_halo(&self.q, &mut self.halo);
         let predicted = match (first, self.prediction.is_some()) {
             (true, true) => self.change_kept(dt)?,
@@ -441,44 +505,23 @@ impl Incompressible {
     /// The change δ = u* − uⁿ of each component over the step, before the
     /// frame's acceleration, into its work arrays, with Nⁿ.
     fn change(&mut self, dt: f64) -> Result<usize, FlowError> {
-        let grid = &self.local;
-        let sides = &self.sides;
-        let h = grid.h;
-        let nu = self.setup.nu;
-        let ab = adams_bashforth(dt, self.last_dt);
+        let inputs = ChangeInputs {
+            grid: &self.local,
+            sides: &self.sides,
+            padded: &self.padded,
+            q: &self.q,
+            halo: &self.halo,
+            nu: self.setup.nu,
+            ab: adams_bashforth(dt, self.last_dt),
+            dt,
+        };
+        let done = by_component(self.side_by_side(), &mut self.work, |c, w| match w {
+            Some(w) => inputs.component(c, w),
+            None => Ok(0),
+        });
         let mut viscous_iterations = 0;
-        for c in 0..3 {
-            let (Some(u), Some(w)) = (&self.padded[c], &mut self.work[c]) else {
-                continue;
-            };
-            w.n.rotate_right(1);
-            advection(&self.padded, c, h, &mut w.flux, &mut w.n[0]);
-            laplacian(u, h, &mut w.lap);
-            // The change over the step solves (I − αL)δ = Δt(−N^{n+½} − ∇q + νLuⁿ),
-            // which is eq. (3.18) less (I − αL)uⁿ.
-            gradients(grid, &self.q, &self.halo, c, &mut w.grad_q, |g, grad| {
-                *g = grad
-            });
-            let lay = u.lay;
-            let m = lay.m;
-            let ([n0, n1], lap, grad_q) = (&w.n, &w.lap, &w.grad_q);
-            rows::each(&lay, lay.unknown_box(), [&mut w.b], |row, [b]| {
-                let [i0, j, k] = row.first.map(|x| x as usize);
-                let face0 = i0 + m[0] * (j + m[1] * k);
-                for i in 0..row.len {
-                    let p = row.at + i;
-                    let adv = ab[0] * n0[p] + ab[1] * n1[p];
-                    b[row.offset + i] = dt * (-adv - grad_q[face0 + i] + nu * lap[p]);
-                }
-            });
-            viscous_iterations += w.helmholtz.solve(
-                sides,
-                h,
-                0.5 * nu * dt,
-                &w.b,
-                &mut w.delta,
-                VISCOUS_TOLERANCE,
-            )?;
+        for d in done {
+            viscous_iterations += d?;
         }
         Ok(viscous_iterations)
     }
@@ -489,10 +532,13 @@ impl Incompressible {
         // frame's body force −a·Δt, and the sides their velocities at the
         // step's end (`frame.rs`).
         let dv = self.move_frame(dt);
-        let sides = &self.sides;
-        for c in 0..3 {
-            let (Some(u), Some(w)) = (&mut self.padded[c], &self.work[c]) else {
-                continue;
+        let (sides, side_by_side) = (&self.sides, self.side_by_side());
+        let mut items: Vec<_> = (self.padded.iter_mut().zip(&self.work))
+            .zip(&mut self.u.u)
+            .collect();
+        by_component(side_by_side, &mut items, |c, ((u, w), faces)| {
+            let (Some(u), Some(w)) = (u, w) else {
+                return;
             };
             let lay = u.lay;
             let d = &w.delta.data;
@@ -502,8 +548,8 @@ impl Incompressible {
                 }
             });
             u.fill_ghosts(sides);
-            u.store(&mut self.u);
-        }
+            u.store_into(faces);
+        });
     }
 
     /// The bodies' and canopy's direct forcing on u*, before the projection,
@@ -549,6 +595,24 @@ impl Incompressible {
             *q += phi + alpha * a_phi;
         }
         Ok((pressure_iterations, pressure_seconds))
+    }
+}
+
+/// `f(c, item)` for each component's item: `side_by_side`
+/// ([`Incompressible::side_by_side`]) on the pool's threads, so that one
+/// component's serial parts (its solve's sums, its ghosts) overlap another's
+/// loops, else one after the other. Each call writes only its own item and
+/// keeps its sums on one thread in the grid's order (`rows.rs`), so the bits
+/// are the same either way.
+fn by_component<T: Send, R: Send>(
+    side_by_side: bool,
+    items: &mut [T],
+    f: impl Fn(usize, &mut T) -> R + Sync,
+) -> Vec<R> {
+    let f = |(c, item): (usize, &mut T)| f(c, item);
+    match side_by_side {
+        true => items.par_iter_mut().enumerate().map(f).collect(),
+        false => items.iter_mut().enumerate().map(f).collect(),
     }
 }
 

@@ -167,9 +167,9 @@ impl Multigrid {
 
     /// z = M⁻¹ r: one V-cycle from a zero guess.
     pub fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
-        self.levels[0].b.copy_from_slice(r);
+        rows::copy(&mut self.levels[0].b, r);
         self.cycle(0);
-        z.copy_from_slice(&self.levels[0].x);
+        rows::copy(z, &self.levels[0].x);
         if self.singular {
             remove_mean(z, &self.levels[0].part);
         }
@@ -178,7 +178,7 @@ impl Multigrid {
     fn cycle(&mut self, l: usize) {
         let last = l + 1 == self.levels.len();
         let level = &mut self.levels[l];
-        level.x.fill(0.0);
+        rows::for_each(&mut level.x, |x, _| *x = 0.0);
         if let (true, Some(rest)) = (last, &mut self.rest) {
             // Rank 0 runs the cycle on the whole level; each takes its slab.
             let part = &level.part;

@@ -143,7 +143,11 @@ impl Padded {
 
     /// Copies the component's faces (ghosts untouched).
     pub fn load(&mut self, u: &Faces) {
-        let src = &u.u[self.c];
+        self.load_from(&u.u[self.c]);
+    }
+
+    /// [`Padded::load`] from this component's faces `src`.
+    pub fn load_from(&mut self, src: &[f64]) {
         let m = self.lay.m;
         let all = [0, 1, 2].map(|a| [0, m[a] as isize]);
         rows::each(&self.lay, all, [&mut self.data], |row, [d]| {
@@ -155,9 +159,14 @@ impl Padded {
 
     /// Copies every face back, sides and periodic repeats included.
     pub fn store(&self, u: &mut Faces) {
+        self.store_into(&mut u.u[self.c]);
+    }
+
+    /// [`Padded::store`] into this component's faces `u`.
+    pub fn store_into(&self, u: &mut [f64]) {
         let m = self.lay.m;
         let lay = self.lay;
-        rows::each_plain(&mut u.u[self.c], m, |j, k, dst| {
+        rows::each_plain(u, m, |j, k, dst| {
             let s = lay.at([0, j as isize, k as isize]);
             dst.copy_from_slice(&self.data[s..s + m[0]]);
         });

@@ -109,7 +109,7 @@ impl Poisson {
             return Ok(0);
         }
         self.mg.precondition(&self.r, &mut self.z);
-        self.p.copy_from_slice(&self.z);
+        rows::copy(&mut self.p, &self.z);
         let mut rz = dot(&self.r, &self.z);
         for it in 1..=self.max_iterations {
             self.mg.apply(&self.p, &mut self.q);
@@ -118,9 +118,21 @@ impl Poisson {
                 return Err(SolveError::NonFinite);
             }
             let (p, q) = (&self.p, &self.q);
-            rows::for_each(phi, |x, i| *x += alpha * p[i]);
             rows::for_each(&mut self.r, |r, i| *r -= alpha * q[i]);
-            res = dot(&self.r, &self.r).sqrt();
+            let r = &self.r;
+            let mut step_phi = || rows::for_each(phi, |x, i| *x += alpha * p[i]);
+            // On one rank the residual's sum (one thread, `rows.rs`) runs
+            // beside φ's update where the grid is worth a second thread;
+            // across ranks it is a collective call and comes after it, in
+            // the same order on every rank.
+            res = match !part.split() && rows::worth_threads(r.len()) {
+                true => rayon::join(|| dot(r, r), step_phi).0,
+                false => {
+                    step_phi();
+                    dot(r, r)
+                }
+            }
+            .sqrt();
             if res <= goal {
                 if singular {
                     remove_mean(phi, part);

@@ -11,13 +11,22 @@
 //! same bits as the one-thread sum, and the C-9's inflation is chaotic
 //! enough that round-off moves its steady descent by percents (issue 43,
 //! item 5: its spread went from 1.8 % to 5.1 % with sums taken row by
-//! row). So the results are those of the serial step, bit for bit.
+//! row). So the results are those of the serial step, bit for bit. What
+//! keeps the second thread busy while one sums is other work that does not
+//! need the sum: the three velocity components' predictions run side by
+//! side (`incompressible.rs`, `by_component`), and the pressure solve sums
+//! its residual beside φ's update (`poisson.rs`).
 
 use crate::padded::Layout;
 use rayon::prelude::*;
 
 /// Entries per task below which rows are not split among threads.
 const ENTRIES_PER_TASK: usize = 8192;
+
+/// Whether a loop over `entries` entries is split among threads.
+pub fn worth_threads(entries: usize) -> bool {
+    entries > ENTRIES_PER_TASK
+}
 
 /// One row of the box: the face (or cell) it starts at and that face's
 /// index in the padded array.
@@ -107,6 +116,12 @@ pub fn for_each(a: &mut [f64], f: impl Fn(&mut f64, usize) + Sync) {
             f(x, c * CHUNK + i);
         }
     });
+}
+
+/// `dst = src`, on the pool's threads.
+pub fn copy(dst: &mut [f64], src: &[f64]) {
+    assert_eq!(dst.len(), src.len(), "copy between arrays of one length");
+    for_each(dst, |d, i| *d = src[i]);
 }
 
 #[cfg(test)]
