@@ -121,12 +121,42 @@ pub fn coupler_exe() -> PathBuf {
     target_dir().join("release").join("coupler")
 }
 
-/// A fresh, empty scratch directory for one test.
-pub fn scratch(name: &str) -> PathBuf {
+/// A fresh, empty scratch directory for one test, removed when the test
+/// passes and kept, its path printed, when it fails.
+pub fn scratch(name: &str) -> Scratch {
     let dir = std::env::temp_dir().join(format!("canopy-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("create scratch dir");
-    dir
+    Scratch(dir)
+}
+
+/// A test's scratch directory (`scratch`): it goes when dropped, unless
+/// the test is failing (its thread panicking), when it stays for a look.
+#[derive(Debug)]
+pub struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        match std::thread::panicking() {
+            true => eprintln!("the failed test's files are kept in {}", self.0.display()),
+            false => {
+                let _ = std::fs::remove_dir_all(&self.0);
+            }
+        }
+    }
 }
 
 pub fn scenario_path(name: &str) -> PathBuf {

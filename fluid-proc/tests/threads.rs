@@ -1,8 +1,10 @@
 //! The incompressible step on the pool's threads gives the same field to
 //! the bit on any number of them (issue 43, item 5): every loop writes
 //! disjoint rows, red–black Gauss–Seidel updates one colour from the other
-//! only, and every sum is taken on one thread in the grid's order
-//! (`rows.rs`). The field is also checked for what the projection
+//! only, every sum is taken on one thread in the grid's order
+//! (`rows.rs`), and the three components' predictions run side by side,
+//! each writing its own arrays (`incompressible.rs`, `by_component`: the
+//! box's 8 640 cells are above the size from which they do). The field is also checked for what the projection
 //! promises: discretely divergence-free (dissertation eq. 3.19) to the
 //! pressure solve's tolerance.
 
