@@ -23,12 +23,16 @@ const C9_DIAMETER: f64 = 8.534;
 /// `scenarios/c9-inflation.toml` as shipped, run once for every test here
 /// that reads it: its output directory.
 fn shipped_c9() -> &'static Path {
-    static RUN: OnceLock<PathBuf> = OnceLock::new();
-    RUN.get_or_init(|| {
-        let out = scratch("c9-inflation").join("run");
+    // Kept for the process's life (a static is never dropped): the
+    // validation tier leaves this one run in the temporary folder.
+    static RUN: OnceLock<(Scratch, PathBuf)> = OnceLock::new();
+    &RUN.get_or_init(|| {
+        let dir = scratch("c9-inflation");
+        let out = dir.join("run");
         run_ok(&scenario_path("c9-inflation"), &out);
-        out
+        (dir, out)
     })
+    .1
 }
 
 #[test]

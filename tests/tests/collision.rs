@@ -16,7 +16,8 @@ fn last(m: &Monitors, name: &str) -> f64 {
 fn a_mass_point_and_a_ball_part_with_the_closed_form_velocities() {
     // Eq. (4.1) with m₁ = 1 kg (the structure's node) at 1 m/s and m₂ = 2 kg
     // (rigid-proc's ball) at rest: v₁' = (1 − 2·C_R)/3, v₂' = (1 + C_R)/3.
-    let out = scratch("point-ball").join("run");
+    let dir = scratch("point-ball");
+    let out = dir.join("run");
     run_ok(&scenario_path("point-ball"), &out);
     let m = Monitors::read(&out);
     for (pair, cr) in [("inelastic", 0.0), ("elastic", 1.0)] {

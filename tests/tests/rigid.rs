@@ -5,11 +5,12 @@
 
 use canopy_tests::*;
 
-fn run(name: &str) -> (std::path::PathBuf, Monitors) {
-    let out = scratch(name).join("run");
+/// The monitors of the shipped scene `name`, run in a scratch directory.
+fn run(name: &str) -> Monitors {
+    let dir = scratch(name);
+    let out = dir.join("run");
     run_ok(&scenario_path(name), &out);
-    let m = Monitors::read(&out);
-    (out, m)
+    Monitors::read(&out)
 }
 
 fn last(m: &Monitors, name: &str) -> f64 {
@@ -19,7 +20,7 @@ fn last(m: &Monitors, name: &str) -> f64 {
 #[test]
 fn cuboids_leave_the_impact_with_the_closed_form_velocities() {
     // Eq. (4.1) for m_a = 1 kg, m_b = 2 kg at ±0.5 m/s: eq. (4.2).
-    let (_, m) = run("cuboids");
+    let m = run("cuboids");
     let cases = [
         ("inelastic", -1.0 / 6.0, -1.0 / 6.0),
         ("elastic", -5.0 / 6.0, 1.0 / 6.0),
@@ -60,7 +61,7 @@ fn cuboids_leave_the_impact_with_the_closed_form_velocities() {
 fn spinning_top_keeps_energy_and_angular_momentum() {
     // Torque-free: E and |L| are invariants of eq. (2.12); RK4 with |w|Δt = 0.01
     // keeps them to 1e-10 over the scene's 20 s (≈ 20 tumbling periods).
-    let (_, m) = run("spinning-top");
+    let m = run("spinning-top");
     for name in ["rigid.kinetic_energy", "rigid.angular_momentum"] {
         let v = m.column(name);
         let drift = v.iter().map(|x| (x / v[0] - 1.0).abs()).fold(0.0, f64::max);
@@ -74,7 +75,7 @@ fn spinning_top_keeps_energy_and_angular_momentum() {
 #[test]
 fn ball_drop_bounce_heights_fall_by_the_square_of_the_restitution() {
     // Rebound speed C_R·v, so each apex is C_R² = 0.64 of the one before.
-    let (_, m) = run("ball-drop");
+    let m = run("ball-drop");
     let z = m.column("rigid.ball.z");
     let apex: Vec<f64> = (1..z.len() - 1)
         .filter(|&i| z[i] >= z[i - 1] && z[i] > z[i + 1])
@@ -104,7 +105,7 @@ fn pendulum_with_a_finite_ball_keeps_its_energy_and_spins_the_ball() {
     // leans against the string, so the ball turns (eq. 2.12); the undamped
     // coupled system still keeps its energy (Euler–Cromer impulses, as in
     // the mass-point pendulum).
-    let (_, m) = run("pendulum-body");
+    let m = run("pendulum-body");
     let e = energy(&m);
     let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
     assert!(

@@ -4,12 +4,14 @@
 //! oscillator's exact solution is x₀·cos(ω₀t) (thesis appendix A with c = 0).
 
 use canopy_tests::*;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// Run `coupler study <args> --out <scratch>/<name>`, which must succeed, and
-/// return the study directory and the rows of its `csv` file.
-fn study(name: &str, args: &[&str], csv: &str) -> (PathBuf, Vec<Vec<String>>) {
-    let out = scratch(name).join("out");
+/// Run `coupler study <args> --out <scratch>/out`, which must succeed, and
+/// return the scratch directory (the study's is its `out`) and the rows of
+/// its `csv` file.
+fn study(name: &str, args: &[&str], csv: &str) -> (Scratch, Vec<Vec<String>>) {
+    let dir = scratch(name);
+    let out = dir.join("out");
     let mut all: Vec<&str> = vec!["study"];
     all.extend(args);
     all.extend(["--out", out.to_str().unwrap()]);
@@ -20,7 +22,7 @@ fn study(name: &str, args: &[&str], csv: &str) -> (PathBuf, Vec<Vec<String>>) {
         String::from_utf8_lossy(&o.stderr)
     );
     let rows = read_rows(&out.join(csv));
-    (out, rows)
+    (dir, rows)
 }
 
 /// The rows of a CSV file after its header, split at commas.
@@ -35,7 +37,7 @@ fn read_rows(path: &Path) -> Vec<Vec<String>> {
 
 #[test]
 fn accuracy_study_writes_csv_table_and_plots() {
-    let (out, rows) = study(
+    let (dir, rows) = study(
         "study-accuracy",
         &[
             "accuracy",
@@ -48,6 +50,7 @@ fn accuracy_study_writes_csv_table_and_plots() {
         ],
         "accuracy.csv",
     );
+    let out = dir.join("out");
     assert_eq!(rows.len(), 12, "2 integrators × 6 steps");
     // Halving the step divides RK4's error by 2⁴ and Verlet's by 2², within 10 %.
     for (name, order) in [("rk4", 4), ("velocity-verlet", 2)] {
@@ -81,7 +84,7 @@ fn an_unknown_integrator_is_bad_input() {
 
 #[test]
 fn stability_study_writes_the_map_and_finds_the_verlet_limit() {
-    let (out, rows) = study(
+    let (dir, rows) = study(
         "study-stability",
         &[
             "stability",
@@ -96,6 +99,7 @@ fn stability_study_writes_the_map_and_finds_the_verlet_limit() {
         ],
         "stability.csv",
     );
+    let out = dir.join("out");
     assert_eq!(rows.len(), 2 * 2 * 10, "2 integrators × 2 k × 10 steps");
     // Velocity Verlet is stable exactly where ω_max·h ≤ 2 (ω_max of the dissertation
     // eq. 3.7 is within 1.3 % of the chain's exact one); the nearest cells of
@@ -147,7 +151,7 @@ fn a_zero_stiffness_is_bad_input() {
 #[test]
 fn accuracy_study_of_a_scenario_measures_orders_through_coupler_runs() {
     let scene = scenario_path("spring-pendulum");
-    let (out, rows) = study(
+    let (dir, rows) = study(
         "study-scenario",
         &[
             "accuracy",
@@ -162,6 +166,7 @@ fn accuracy_study_of_a_scenario_measures_orders_through_coupler_runs() {
         ],
         "accuracy.csv",
     );
+    let out = dir.join("out");
     assert_eq!(rows.len(), 12, "3 integrators × 4 steps");
     for (name, order) in [("explicit-euler", 1), ("velocity-verlet", 2), ("rk4", 4)] {
         let mine: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == name).collect();
