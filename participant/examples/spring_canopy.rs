@@ -31,11 +31,11 @@ struct Fabric {
     areal_density: f64,
 }
 /// `[structure]`, read and checked with canopy's messages (file:line: key).
-fn load(path: &Path, text: &str) -> Result<Structure, ScenarioError> {
-    let s: Structure = section::read(path, text, "structure")?
-        .ok_or_else(|| section::missing(path, "structure", "spring_canopy"))?;
+fn load(name: &str, path: &Path, text: &str) -> Result<Structure, ScenarioError> {
+    let s: Structure = section::read(path, text, name)?
+        .ok_or_else(|| section::missing(path, name, "spring_canopy"))?;
     section::checked(path, text, |c| {
-        c.within("structure", None, |c| {
+        c.within(name, None, |c| {
             c.nonzero(&["steps_per_substep"], s.steps_per_substep as f64);
             c.positive(&["annulus", "fabric", "stiffness"], s.annulus.fabric.stiffness, "N/m");
         })
@@ -110,11 +110,11 @@ fn substep(s: &Structure, net: &Net, jump: &[f64], x: &mut [V3], v: &mut [V3], h
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    scenario::answer_check(|path, text| {
-        load(path, text).map(|_| scenario::Answer::with_restarts())
+    scenario::answer_check_as(|name, path, text| {
+        load(name, path, text).map(|_| scenario::Answer::with_restarts())
     });
     let joining = participant::connect()?;
-    let s = load(joining.scenario_path(), joining.scenario())?;
+    let s = load(joining.name(), joining.scenario_path(), joining.scenario())?;
     let (mut x, tris, first) = annulus(&s.annulus);
     let (n, vent, free) = (x.len(), first[1], first[s.annulus.rings - 1]); // the rim is fixed
     let timing = *joining.timing();

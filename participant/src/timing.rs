@@ -1,5 +1,5 @@
 //! The run's clock: its windows, the steps each participant takes in them,
-//! and when output is due (DESIGN.md, "Time stepping").
+//! and when output is due (docs/PROTOCOL.md, "The schedule").
 //!
 //! Every participant follows this schedule itself, and the coupler follows
 //! the same one to supervise, so the coupler relays no step: a participant
@@ -70,6 +70,9 @@ pub struct Advance {
     pub dt: f64,
     /// How many internal sub-steps of `dt / substeps` to take.
     pub substeps: u32,
+    /// True on the first step of a window (of each try at it): read what
+    /// comes once a window.
+    pub window_start: bool,
     /// True on the last step of a window: report monitors and publish window-end fields.
     pub window_end: bool,
     /// Which try at the window this is, from 0: implicit coupling repeats a
@@ -329,6 +332,7 @@ impl Plan {
                 time: t,
                 dt,
                 substeps: self.substeps,
+                window_start: true,
                 window_end: true,
                 iteration: self.iteration,
             };
@@ -339,6 +343,7 @@ impl Plan {
             time: t + k as f64 * dt_i,
             dt: dt_i,
             substeps: self.substeps,
+            window_start: k == 0,
             window_end: k + 1 == self.per_window,
             iteration: self.iteration,
         }
@@ -450,11 +455,18 @@ mod tests {
             .iter()
             .all(|a| a.substeps == 2 && (a.dt - 1e-3 / 3.0).abs() < 1e-15));
         assert_eq!(a.iter().filter(|a| a.window_end).count(), 10);
+        // Each window's first sub-step says so, and only it.
+        assert!(a
+            .iter()
+            .enumerate()
+            .all(|(i, a)| a.window_start == (i % 3 == 0)));
         assert_eq!(a[4].time, 1e-3 + 1e-3 / 3.0, "window 1, sub-step 1");
         // Alone, it takes all its sub-steps in one advance per window.
         let a = advances(Plan::new(&t, cadence, false));
         assert_eq!(a.len(), 10);
-        assert!(a.iter().all(|a| a.substeps == 6 && a.window_end));
+        assert!(a
+            .iter()
+            .all(|a| a.substeps == 6 && a.window_start && a.window_end));
     }
 
     /// A run resumed after a run checkpoint's window takes the rest of the

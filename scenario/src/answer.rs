@@ -1,5 +1,6 @@
-//! What a participant's program answers to `PROGRAM --check SCENARIO`: the
-//! contract by which the coupler checks sections it does not know.
+//! What a participant's program answers to `PROGRAM --check SCENARIO NAME`
+//! (NAME: the participant it plays): the contract by which the coupler
+//! checks sections it does not know.
 //!
 //! - All good: exit 0 and, on stdout, nothing or an [`Answer`] in TOML
 //!   (notes for `coupler check` to print, warnings, and values for the run's
@@ -7,13 +8,14 @@
 //! - Bad input: exit 2 and one line per problem on stderr, each as
 //!   [`ScenarioError`] prints it (`file:line:col: key `k`: message`).
 //!
-//! [`answer_check`] does both for a program written in Rust.
+//! [`answer_check`] and [`answer_check_as`] do both for a program written
+//! in Rust.
 
 use crate::error::ScenarioError;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// The flag a participant's program answers (`PROGRAM --check SCENARIO`).
+/// The flag a participant's program answers (`PROGRAM --check SCENARIO NAME`).
 pub const CHECK_FLAG: &str = "--check";
 
 /// Exit code of a program that found bad input.
@@ -78,20 +80,50 @@ impl Answer {
     }
 }
 
-/// Answers `--check SCENARIO` when those are the program's arguments: reads
-/// the file, calls `check` with its path and text, prints the answer or the
-/// problem, and exits 0 or 2. Returns (doing nothing) for any other
-/// arguments, so a program's `main` starts with it.
+/// Answers `--check SCENARIO [NAME]` when those are the program's
+/// arguments: reads the file, calls `check` with its path and text, prints
+/// the answer or the problem, and exits 0 or 2. Returns (doing nothing) for
+/// any other arguments, so a program's `main` starts with it. For a program
+/// that knows the name of its table; [`answer_check_as`] is told it.
 pub fn answer_check(check: impl FnOnce(&Path, &str) -> Result<Answer, ScenarioError>) {
+    answer(|_, path, text| check(path, text));
+}
+
+/// [`answer_check`] for a program whose table is named after the
+/// participant it plays: `check` gets that name first, the coupler's third
+/// argument (`PROGRAM --check SCENARIO NAME`; NAME is the program's key
+/// under `[participants]`, as `Joining::name` says in a run). Run by hand
+/// without NAME, the check says so and exits 2.
+pub fn answer_check_as(check: impl FnOnce(&str, &Path, &str) -> Result<Answer, ScenarioError>) {
+    answer(|name, path, text| match name {
+        Some(name) => check(name, path, text),
+        None => Err(ScenarioError {
+            file: path.to_path_buf(),
+            line: None,
+            column: None,
+            key: None,
+            message: format!(
+                "which participant to check? This program reads the table named after \
+                 the participant it plays: give it as `{CHECK_FLAG} SCENARIO NAME`"
+            ),
+        }),
+    });
+}
+
+/// `--check SCENARIO [NAME]`: `check(name, path, text)`, its answer
+/// printed, and exit; any other arguments: return.
+fn answer(check: impl FnOnce(Option<&str>, &Path, &str) -> Result<Answer, ScenarioError>) {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let [flag, path] = args.as_slice() else {
-        return;
+    let (flag, path, name) = match args.as_slice() {
+        [flag, path] => (flag, path, None),
+        [flag, path, name] => (flag, path, Some(name.as_str())),
+        _ => return,
     };
     if flag != CHECK_FLAG {
         return;
     }
     let path = Path::new(path);
-    let result = crate::read_text(path).and_then(|text| check(path, &text));
+    let result = crate::read_text(path).and_then(|text| check(name, path, &text));
     match result {
         Ok(answer) => {
             print!("{}", answer.to_toml());

@@ -11,7 +11,7 @@ pub mod implicit;
 pub mod section;
 mod spans;
 
-pub use answer::{answer_check, Answer, CHECK_FLAG};
+pub use answer::{answer_check, answer_check_as, Answer, CHECK_FLAG};
 pub use check::{path_string, Checker, Problem, Seg, MAX_MAGNITUDE, MIN_POSITIVE};
 pub use error::ScenarioError;
 pub use implicit::{ImplicitSection, SchemeName};
@@ -66,7 +66,7 @@ pub struct RunSection {
     pub checkpoint_interval: Option<f64>,
 }
 
-/// `[coupling]`: the FSI window and its sub-steps (DESIGN.md, "Time stepping").
+/// `[coupling]`: the FSI window and its sub-steps (docs/PROTOCOL.md, "The schedule").
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CouplingSection {

@@ -114,3 +114,42 @@ fn the_porous_load_applied_by_the_structure_matches_fluid_procs() {
         "structure alone {d} m, with fluid-proc {reference} m"
     );
 }
+
+/// The example plays whatever participant the scenario names it
+/// (docs/PROTOCOL.md, "Checking a scenario"): `coupler check` hands it the
+/// name as `--check SCENARIO NAME`, so as `[participants.membrane]` it reads
+/// `[membrane]` and places its problems there; run by hand without the
+/// name it asks for it (exit 2, the file named).
+#[test]
+fn the_example_reads_the_table_of_the_participant_it_plays() {
+    let dir = scratch("swap-renamed");
+    let renamed = |steps: &str| {
+        let text = std::fs::read_to_string(with_example(&dir, steps)).unwrap();
+        let text = text
+            .replace("[participants.structure]", "[participants.membrane]")
+            .replace("[structure]", "[membrane]")
+            .replace("[structure.", "[membrane.");
+        let path = dir.join(format!("membrane-{steps}.toml"));
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let good = renamed("1");
+    let o = coupler(&["check", good.to_str().unwrap()]);
+    let says = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{says}");
+    let bad = renamed("0");
+    let o = coupler(&["check", bad.to_str().unwrap()]);
+    let says = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{says}");
+    assert!(says.contains("key `membrane.steps_per_substep`"), "{says}");
+    let by_hand = std::process::Command::new(example_exe("participant", "spring_canopy"))
+        .args(["--check", good.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let says = String::from_utf8_lossy(&by_hand.stderr);
+    assert_eq!(by_hand.status.code(), Some(2), "{says}");
+    assert!(
+        says.starts_with(&format!("{}: which participant", good.display())),
+        "{says}"
+    );
+}

@@ -79,7 +79,7 @@ fn ask(name: &str, program: &mut Program, (path, text): (&Path, &str)) -> Said {
         Ok(p) => p,
         Err(e) => return about(e),
     };
-    let (code, out, err) = match run_within(&exe, path, ANSWER_WITHIN) {
+    let (code, out, err) = match run_within(&exe, path, name, ANSWER_WITHIN) {
         Ok(r) => r,
         Err(e) => return about(e),
     };
@@ -120,16 +120,18 @@ fn ask(name: &str, program: &mut Program, (path, text): (&Path, &str)) -> Said {
     }
 }
 
-/// Runs `program --check scenario` for at most `limit`: its exit code and
-/// what it printed on stdout and stderr.
+/// Runs `program --check scenario name` for at most `limit`: its exit code
+/// and what it printed on stdout and stderr.
 fn run_within(
     program: &Path,
     scenario: &Path,
+    name: &str,
     limit: Duration,
 ) -> Result<(Option<i32>, String, String), String> {
     let mut child = Command::new(program)
         .arg(CHECK_FLAG)
         .arg(scenario)
+        .arg(name)
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

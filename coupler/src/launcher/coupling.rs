@@ -1,6 +1,6 @@
 //! The coupling thread of `coupler run`: take every participant through the
 //! handshake, start them, then supervise while they follow the schedule by
-//! themselves (DESIGN.md, "Time stepping"): gather their monitor rows into
+//! themselves (docs/PROTOCOL.md, "The schedule"): gather their monitor rows into
 //! `monitors.csv`, show progress, notice a failure or a stall, and collect
 //! their statistics at the end. The coupler relays no step: a participant
 //! starts a step when the fields it reads for it have arrived.
