@@ -20,6 +20,7 @@ pub mod dome;
 pub mod driver;
 pub mod fields;
 pub mod forces;
+#[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod integrators;
 pub mod lines;

@@ -4,6 +4,8 @@
 //! adapter (llvmpipe, f64); `CANOPY_REQUIRE_GPU` makes a missing adapter a
 //! failure there, elsewhere the tests say so and pass.
 
+#![cfg(feature = "gpu")]
+
 use structure_gpu::{Gpu, Precision, Scheme, Solver};
 use structure_proc::driver::{self, Stepper};
 use structure_proc::forces::Loads;
