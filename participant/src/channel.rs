@@ -399,6 +399,7 @@ pub const MIN_BLOCK: Duration = Duration::from_micros(1);
 /// files left empty go first (older than [`HALF_CREATED_AGE`]); should a
 /// fresher one still hold iceoryx2's cleanup, it is left to the next call
 /// after [`CLEANUP_WITHIN`].
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 pub fn cleanup_dead_nodes() -> usize {
     quiet();
     remove_empty_shared_memory(HALF_CREATED_AGE);
@@ -410,15 +411,18 @@ pub fn cleanup_dead_nodes() -> usize {
 }
 
 /// How long [`cleanup_dead_nodes`] lets iceoryx2 clean.
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 pub const CLEANUP_WITHIN: Duration = Duration::from_secs(5);
 
 /// Where iceoryx2 keeps its shared memory (POSIX shm on Linux); its files
 /// start with the config's prefix.
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 const SHARED_MEMORY_DIR: &str = "/dev/shm";
 
 /// Removes iceoryx2's shared-memory files that are empty and older than
 /// `age`: a process was killed between creating one and sizing it (which
 /// takes microseconds), and iceoryx2 would wait for ever to open it.
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 fn remove_empty_shared_memory(age: Duration) {
     let prefix = Config::global_config().global.prefix.to_string();
     let Ok(entries) = std::fs::read_dir(SHARED_MEMORY_DIR) else {
@@ -438,6 +442,7 @@ fn remove_empty_shared_memory(age: Duration) {
 
 /// iceoryx2's cleanup of the dead nodes it lists; entries it cannot clean
 /// go by hand.
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 fn cleanup_listed_dead_nodes() -> usize {
     let mut cleaned = 0;
     let mut unfinished = Vec::new();
@@ -460,6 +465,7 @@ fn cleanup_listed_dead_nodes() -> usize {
 /// Node entries no cleanup would remove: dead nodes, and entries with no
 /// monitor older than [`HALF_CREATED_AGE`]. Zero after
 /// [`cleanup_dead_nodes`] (for tests).
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 pub fn stale_node_entries() -> usize {
     quiet();
     let mut dead = 0;
@@ -472,9 +478,11 @@ pub fn stale_node_entries() -> usize {
 
 /// A node's entry with no monitor this old was abandoned while its node was
 /// created (creating one takes milliseconds).
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 pub const HALF_CREATED_AGE: Duration = Duration::from_secs(5);
 
 /// The node folder, and the name of node `id`'s monitor file in it.
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 fn node_files() -> (std::path::PathBuf, impl Fn(&str) -> std::path::PathBuf) {
     let config = Config::global_config();
     let dir = std::path::PathBuf::from(config.global.node_dir().to_string());
@@ -488,6 +496,7 @@ fn node_files() -> (std::path::PathBuf, impl Fn(&str) -> std::path::PathBuf) {
 /// Node entries older than `age` with no monitor: their process was killed
 /// between creating the entry and its monitor, and iceoryx2 does not list
 /// them at all.
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 fn half_created(age: Duration) -> Vec<std::path::PathBuf> {
     let (dir, monitor) = node_files();
     let Ok(entries) = std::fs::read_dir(&dir) else {
@@ -511,6 +520,7 @@ fn half_created(age: Duration) -> Vec<std::path::PathBuf> {
 /// or dropped its node, which iceoryx2 lists as dead but cannot clean
 /// (`dead`, by id), or does not list at all ([`half_created`]), so that no
 /// cleanup of its own would ever remove them.
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 fn remove_half_created_nodes(dead: &[u128], age: Duration) {
     let (dir, monitor) = node_files();
     for id in dead.iter().map(u128::to_string) {
@@ -525,6 +535,7 @@ fn remove_half_created_nodes(dead: &[u128], age: Duration) {
 }
 
 /// Names of the services that exist for one run (for checks that nothing was left behind).
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 pub fn services_of_run(run_id: &str) -> Vec<String> {
     quiet();
     let prefix = format!("{}/{run_id}/", crate::names::PREFIX);

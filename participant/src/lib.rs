@@ -17,7 +17,6 @@
 //! protocol is described for solver authors in `docs/PROTOCOL.md`.
 
 mod acceleration;
-pub mod atomic;
 mod channel;
 mod clock;
 mod declaration;
@@ -32,14 +31,11 @@ mod joint;
 mod load;
 mod matching;
 mod monitors;
-pub mod mpirun;
 mod names;
 mod participant;
 mod presence;
 pub mod restart;
-pub mod scheme;
 mod service;
-pub mod supervisor;
 mod timing;
 mod usage;
 mod verdict;
@@ -53,6 +49,24 @@ pub use joining::{connect, connect_as, Joining};
 pub use monitors::Monitor;
 pub use participant::{FieldView, Participant};
 pub use timing::{Advance, Cadence, Command, Timing};
+
+// What the coupler uses and a solver does not: public with the `coupler`
+// feature (the coupler, canopy's tests and benches), else kept inside.
+#[cfg(feature = "coupler")]
+pub mod atomic;
+#[cfg(not(feature = "coupler"))]
+#[allow(dead_code)]
+mod atomic;
+#[cfg(feature = "coupler")]
+pub mod mpirun;
+#[cfg(feature = "coupler")]
+pub mod scheme;
+#[cfg(not(feature = "coupler"))]
+#[allow(dead_code)]
+mod scheme;
+#[cfg(feature = "coupler")]
+pub mod supervisor;
+#[cfg(feature = "coupler")]
 pub use usage::cpu_seconds;
 
 /// The number of MPI ranks this participant was started on (`ranks = N`

@@ -8,6 +8,7 @@ use std::collections::HashMap;
 
 /// Each participant's connections, in the order of `names`, or why the
 /// declarations do not fit together.
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 pub fn connect_fields(names: &[String], decls: &[Declaration]) -> Result<Vec<Connections>, String> {
     let mut writers: HashMap<&str, usize> = HashMap::new();
     for (p, d) in decls.iter().enumerate() {

@@ -46,6 +46,7 @@ pub fn field(run: &str, field: &str) -> String {
 }
 
 /// A fresh run id: process id and clock, short enough for service names.
+#[cfg_attr(not(feature = "coupler"), allow(dead_code))]
 pub fn new_run_id() -> String {
     let nanos = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
