@@ -6,7 +6,7 @@
 //! 1. u* from (u* − uⁿ)/Δt + ∇q = −[(u·∇)u]^{n+½} + ν∇²(u* + uⁿ)/2 with
 //!    q = p^{n−½}: the advection term (`advection.rs`, WENO5) extrapolated
 //!    to n + ½ by Adams–Bashforth, the viscous term Crank–Nicolson
-//!    (`viscosity.rs`);
+//!    (`viscosity.rs`), one component at a time (`component.rs`);
 //!    Bodies in the flow then force u* to their motion (`immersed.rs`);
 //! 2. u^{n+1} = u* − Δt∇φ with ∇·u^{n+1} = 0 (`projection.rs`, `poisson.rs`);
 //! 3. p^{n+½} = q + φ − (νΔt/2)∇²φ.
@@ -22,8 +22,8 @@
 //! and the fields it returns are the slab's, and the sums and extrema it
 //! returns are the whole box's.
 
-use crate::advection::advection;
 use crate::checkpoint::History;
+use crate::component::{adams_bashforth, by_component, ChangeInputs, Work};
 use crate::faces::{for_each_cell_faces, Faces};
 use crate::frame::Frame;
 use crate::grid::Grid;
@@ -32,12 +32,11 @@ use crate::padded::Padded;
 use crate::part::{Halo, Part};
 use crate::poisson::{Poisson, SolveError};
 use crate::prediction::{Inputs, Prediction, State};
-use crate::projection::{gradients, project};
+use crate::projection::project;
 use crate::rows;
 use crate::side::{bcs, Sides};
-use crate::viscosity::{laplacian, Helmholtz, ViscousError};
+use crate::viscosity::ViscousError;
 use fluid_section::flow::MAX_COURANT;
-use rayon::prelude::*;
 
 /// Relative residual of the pressure solve.
 pub const PRESSURE_TOLERANCE: f64 = 1e-8;
@@ -78,68 +77,6 @@ pub struct StepReport {
     pub viscous_iterations: usize,
     /// Whether the step took its window's kept prediction (`prediction.rs`).
     pub kept_prediction: bool,
-}
-
-/// One advected component's work arrays.
-struct Work {
-    /// N = ∇·(u u_c) at n and n − 1.
-    n: [Vec<f64>; 2],
-    b: Vec<f64>,
-    lap: Vec<f64>,
-    flux: Vec<f64>,
-    /// ∇q on the component's faces (unpadded, as in `Faces`).
-    grad_q: Vec<f64>,
-    /// δ = u* − uⁿ, kept as the next step's first guess.
-    delta: Padded,
-    helmholtz: Helmholtz,
-}
-
-/// What step 1 of the projection method reads of the window's start, for
-/// each component's change.
-struct ChangeInputs<'a> {
-    grid: &'a Grid,
-    sides: &'a Sides,
-    padded: &'a [Option<Padded>; 3],
-    q: &'a [f64],
-    halo: &'a Halo,
-    nu: f64,
-    /// Adams–Bashforth's weights of Nⁿ and Nⁿ⁻¹.
-    ab: [f64; 2],
-    dt: f64,
-}
-
-impl ChangeInputs<'_> {
-    /// Component `c`'s change δ into `w.delta`, with Nⁿ; the Helmholtz
-    /// iterations.
-    fn component(&self, c: usize, w: &mut Work) -> Result<usize, ViscousError> {
-        let (grid, h, nu, dt, ab) = (self.grid, self.grid.h, self.nu, self.dt, self.ab);
-        let u = self.padded[c]
-            .as_ref()
-            .expect("a padded array for each worked component");
-        w.n.rotate_right(1);
-        advection(self.padded, c, h, &mut w.flux, &mut w.n[0]);
-        laplacian(u, h, &mut w.lap);
-        // The change over the step solves (I − αL)δ = Δt(−N^{n+½} − ∇q + νLuⁿ),
-        // which is eq. (3.18) less (I − αL)uⁿ.
-        gradients(grid, self.q, self.halo, c, &mut w.grad_q, |g, grad| {
-            *g = grad
-        });
-        let lay = u.lay;
-        let m = lay.m;
-        let ([n0, n1], lap, grad_q) = (&w.n, &w.lap, &w.grad_q);
-        rows::each(&lay, lay.unknown_box(), [&mut w.b], |row, [b]| {
-            let [i0, j, k] = row.first.map(|x| x as usize);
-            let face0 = i0 + m[0] * (j + m[1] * k);
-            for i in 0..row.len {
-                let p = row.at + i;
-                let adv = ab[0] * n0[p] + ab[1] * n1[p];
-                b[row.offset + i] = dt * (-adv - grad_q[face0 + i] + nu * lap[p]);
-            }
-        });
-        let alpha = 0.5 * nu * dt;
-        w.helmholtz
-            .solve(self.sides, h, alpha, &w.b, &mut w.delta, VISCOUS_TOLERANCE)
-    }
 }
 
 pub struct Incompressible {
@@ -195,23 +132,7 @@ impl Incompressible {
         // From the whole box, so that every rank has the same components.
         let active = |c: usize| global.n[c] > 1;
         let padded = [0, 1, 2].map(|c| active(c).then(|| Padded::on(&part, c)));
-        let work = padded.clone().map(|p| {
-            p.map(|p| {
-                let len = p.data.len();
-                Work {
-                    n: [vec![0.0; len], vec![0.0; len]],
-                    b: vec![0.0; len],
-                    lap: vec![0.0; len],
-                    flux: vec![0.0; len],
-                    grad_q: vec![
-                        0.0;
-                        grid.n.iter().product::<usize>() / grid.n[p.c] * (grid.n[p.c] + 1)
-                    ],
-                    helmholtz: Helmholtz::new(&p),
-                    delta: p,
-                }
-            })
-        });
+        let work = padded.clone().map(|p| p.map(|p| Work::new(p, &grid)));
         let mut flow = Incompressible {
             u: Faces::zeros(&grid),
             q: vec![0.0; grid.cells()],
@@ -595,42 +516,5 @@ impl Incompressible {
             *q += phi + alpha * a_phi;
         }
         Ok((pressure_iterations, pressure_seconds))
-    }
-}
-
-/// `f(c, item)` for each component's item: `side_by_side`
-/// ([`Incompressible::side_by_side`]) on the pool's threads, so that one
-/// component's serial parts (its solve's sums, its ghosts) overlap another's
-/// loops, else one after the other. Each call writes only its own item and
-/// keeps its sums on one thread in the grid's order (`rows.rs`), so the bits
-/// are the same either way.
-fn by_component<T: Send, R: Send>(
-    side_by_side: bool,
-    items: &mut [T],
-    f: impl Fn(usize, &mut T) -> R + Sync,
-) -> Vec<R> {
-    let f = |(c, item): (usize, &mut T)| f(c, item);
-    match side_by_side {
-        true => items.par_iter_mut().enumerate().map(f).collect(),
-        false => items.iter_mut().enumerate().map(f).collect(),
-    }
-}
-
-/// The weights of Nⁿ and N^{n−1} in the advection term N^{n+½} of a step
-/// of `dt` after one of `last`: second-order Adams–Bashforth for the length
-/// ratio r = Δt/Δt_old, (1 + r/2, −r/2); explicit Euler on the first step.
-///
-/// With WENO5 its stability needs a Courant number Σ_a|u_a|Δt/h_a below
-/// about 0.6 in a nearly inviscid flow (MAX_COURANT keeps a margin):
-/// third-order Adams–Bashforth, tried, is worse, as the upwind scheme's
-/// damped eigenvalues fall outside its smaller region along the negative
-/// real axis.
-fn adams_bashforth(dt: f64, last: Option<f64>) -> [f64; 2] {
-    match last {
-        Some(old) => {
-            let r = dt / old;
-            [1.0 + 0.5 * r, -0.5 * r]
-        }
-        None => [1.0, 0.0],
     }
 }

@@ -51,6 +51,7 @@ pub mod checkpoint;
 pub mod clearance;
 pub mod coating;
 pub mod comm;
+mod component;
 pub mod compressible;
 pub mod delta;
 pub mod driver;

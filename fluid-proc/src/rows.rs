@@ -14,7 +14,7 @@
 //! row). So the results are those of the serial step, bit for bit. What
 //! keeps the second thread busy while one sums is other work that does not
 //! need the sum: the three velocity components' predictions run side by
-//! side (`incompressible.rs`, `by_component`), and the pressure solve sums
+//! side (`component.rs`, `by_component`), and the pressure solve sums
 //! its residual beside φ's update (`poisson.rs`).
 
 use crate::padded::Layout;

@@ -3,7 +3,7 @@
 //! disjoint rows, red–black Gauss–Seidel updates one colour from the other
 //! only, every sum is taken on one thread in the grid's order
 //! (`rows.rs`), and the three components' predictions run side by side,
-//! each writing its own arrays (`incompressible.rs`, `by_component`: the
+//! each writing its own arrays (`component.rs`, `by_component`: the
 //! box's 8 640 cells are above the size from which they do). The field is also checked for what the projection
 //! promises: discretely divergence-free (dissertation eq. 3.19) to the
 //! pressure solve's tolerance.
