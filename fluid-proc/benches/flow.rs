@@ -146,12 +146,12 @@ fn steps_table() {
 
 fn cavity_table() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/cavity.toml");
-    let scenario =
+    let scene =
         fluid_section::Scene::load_file(std::path::Path::new(path)).expect("shipped scenario");
-    let section = &scenario.fluid;
+    let section = &scene.fluid;
     println!(
         "\nscenarios/cavity.toml (Re = 100, 128², Δt = {} s), from rest:\n",
-        scenario.scenario.coupling.window
+        scene.scenario.coupling.window
     );
     println!("| threads | within 1 % of the converged extrema | max\\|∂u/∂t\\| < 1e-4 m/s² | steps | extrema at the end |");
     println!("|---|---|---|---|---|");
@@ -164,9 +164,9 @@ fn cavity_table() {
             let mut extrema = [0.0; 3];
             let mut steps = 0;
             let mut before = flow.u.clone();
-            for w in 0..scenario.scenario.windows() {
+            for w in 0..scene.scenario.windows() {
                 before.clone_from(&flow.u);
-                let dt = scenario.scenario.window_span(w).1;
+                let dt = scene.scenario.window_span(w).1;
                 flow.step(dt).expect("a stable step");
                 steps += 1;
                 let u = face_line(&flow, 0, 1, [n / 2, 0, 0]);

@@ -2,8 +2,8 @@
 //! (`gas_bodies.rs`): its pose and centre at the window's start, carried
 //! on at the velocity and spin rigid-proc sent. Geometry only.
 
+use exchange::Body;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
-use rigid_proc::Body;
 
 /// Where a body is at `time` and how it moves on from there: at constant
 /// velocity and spin over a window (rigid-proc sends them each window; a

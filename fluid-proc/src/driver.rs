@@ -7,29 +7,16 @@
 use crate::comm::Single;
 use crate::flow_run::{self, fail};
 use crate::{check_triangles, gas_run, ranks, triangles_from_field, Porous};
+use exchange::fields::{
+    BODY_LOADS, BODY_STATES, CANOPY_POSITIONS, CANOPY_PRESSURE, CANOPY_TRIANGLES,
+    CANOPY_VELOCITIES, LOAD_LEN,
+};
 use fluid_section::FluidModel;
 use fluid_section::{FluidSection, Scene};
 use participant::{Cadence, Command, Declaration, Joining, Monitor, Participant};
 use std::sync::Arc;
 
 pub type Error = Box<dyn std::error::Error>;
-
-/// The fields the fluid exchanges, by name (docs/PROTOCOL.md, "Fields").
-pub mod fields {
-    /// Read once: 3 vertex indices per canopy triangle.
-    pub const CANOPY_TRIANGLES: &str = "canopy.triangles";
-    /// Read every window: 3 per canopy vertex [m].
-    pub const CANOPY_POSITIONS: &str = "canopy.positions";
-    /// As the positions [m/s].
-    pub const CANOPY_VELOCITIES: &str = "canopy.velocities";
-    /// Written every window: the pressure jump per canopy triangle [Pa].
-    pub const CANOPY_PRESSURE: &str = "canopy.pressure";
-    /// Read every window: every rigid body's state (13).
-    pub const BODY_STATES: &str = "body.states";
-    /// Written every window: the fluid's force and torque on each body (6).
-    pub const BODY_LOADS: &str = "body.loads";
-}
-use fields::*;
 
 /// Join the run and run its flow to the end of the schedule; on MPI ranks
 /// when the launcher started this program under `mpirun`.
@@ -63,7 +50,7 @@ pub(crate) fn connect() -> Result<(Joining, Scene, FluidSection), Error> {
 pub(crate) fn declaration(bodies: usize, with_bodies: bool, monitors: Vec<String>) -> Declaration {
     let d = Declaration::new(Cadence::PerWindow { substeps: 1 })
         .writes_items_of(CANOPY_PRESSURE, 1)
-        .writes(BODY_LOADS, 6, bodies)
+        .writes(BODY_LOADS, LOAD_LEN as u32, bodies)
         .reads_if_written(CANOPY_TRIANGLES)
         .reads_if_written(CANOPY_POSITIONS)
         .reads_if_written(CANOPY_VELOCITIES)
@@ -129,7 +116,7 @@ fn porous_window(
         // exerts no force on them: a body here is what the dissertation
         // (§2.4) calls a mass-point parachutist, outside the flow. The
         // pressure integral of eq. (2.40) comes with a flow field.
-        p.write_field(BODY_LOADS, 6 * bodies, |out| out.fill(0.0))?;
+        p.write_field(BODY_LOADS, LOAD_LEN * bodies, |out| out.fill(0.0))?;
     }
     if !p.is_connected(CANOPY_POSITIONS) {
         return Ok(Vec::new());

@@ -7,10 +7,11 @@ use crate::immersed::{place_markers, ImmersedBody, RETRACTION};
 use crate::incompressible::Incompressible;
 use crate::pressure_force::pressure_load;
 use crate::surface::Surface;
+use exchange::body::read_states;
+use exchange::fields::LOAD_LEN;
+use exchange::Body;
 use fluid_section::Scene;
 use participant::Monitor;
-use rigid_proc::body::read_states;
-use rigid_proc::Body;
 
 pub struct FlowBodies {
     bodies: Vec<Body>,
@@ -28,11 +29,10 @@ impl FlowBodies {
         flow: &mut Incompressible,
         lower: [f64; 3],
     ) -> Result<FlowBodies, String> {
-        let specs = scenario.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
-        let bodies = specs
-            .iter()
-            .map(Body::from_spec)
-            .collect::<Result<Vec<_>, _>>()?;
+        let bodies = scenario
+            .rigid
+            .as_ref()
+            .map_or(Ok(Vec::new()), |r| r.bodies())?;
         let g = flow.grid();
         let thick = (0..3).filter(|&d| g.n[d] > 1).count();
         if thick < 2 && bodies.iter().any(|b| b.shape.is_some()) {
@@ -136,7 +136,7 @@ impl FlowBodies {
                 pressure_load(g, p, &immersed.markers, immersed.centre, spacing, surface).0
             });
             for (d, axis) in ["x", "y", "z"].iter().enumerate() {
-                let v = loads.map_or(f64::NAN, |l| l[6 * i + d]);
+                let v = loads.map_or(f64::NAN, |l| l[LOAD_LEN * i + d]);
                 out.push(Monitor::new(format!("{}_fluid_force_{axis}", b.name), v));
             }
             for (d, axis) in ["x", "y", "z"].iter().enumerate() {

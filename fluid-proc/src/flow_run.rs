@@ -13,7 +13,6 @@
 
 use crate::checkpoint::Checkpoint;
 use crate::comm::Comm;
-use crate::driver::fields::*;
 use crate::driver::{declaration, Error};
 use crate::faces::Faces;
 use crate::flow_bodies::FlowBodies;
@@ -23,6 +22,7 @@ use crate::probe;
 use crate::rank_checkpoint::{self, Place};
 use crate::ranks::{Order, Stopped};
 use crate::setup::flow_on;
+use exchange::fields::*;
 use fluid_section::flow::Probe;
 use fluid_section::frame::FrameSpec;
 use fluid_section::{FluidSection, Scene};
@@ -386,7 +386,7 @@ impl Interface {
     ) -> Interface {
         let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
         Interface {
-            loads: vec![0.0; 6 * f.flow.bodies.len()],
+            loads: vec![0.0; LOAD_LEN * f.flow.bodies.len()],
             bodies,
             canopy: FlowCanopy::new(section, origin),
             with_canopy: p.is_connected(CANOPY_POSITIONS),

@@ -39,9 +39,9 @@ use crate::gas::{Gas, Primitive, State};
 use crate::level_set::Placed;
 use crate::padded::{Layout, GHOSTS};
 use crate::surface::{Marker, Surface};
+use exchange::Body;
+use exchange::Shape;
 use nalgebra::Vector3;
-use rigid_proc::shape::Shape;
-use rigid_proc::Body;
 
 pub use crate::body_motion::Kinematics;
 

@@ -11,18 +11,18 @@
 
 use crate::comm::Comm;
 use crate::compressible::{AdvanceReport, Compressible, GasCheckpoint, GasError};
-use crate::driver::fields::{BODY_LOADS, BODY_STATES};
 use crate::driver::{declaration, Error};
 use crate::gas::Primitive;
 use crate::gas_bodies::Kinematics;
 use crate::rank_checkpoint::{self, Place};
 use crate::ranks::{Order, Stopped};
 use crate::setup::gas_scene;
+use exchange::body::read_states;
+use exchange::fields::{BODY_LOADS, BODY_STATES, LOAD_LEN};
+use exchange::Body;
 use fluid_section::Scene;
 use participant::vtu::{Image, Series};
 use participant::{Command, Joining, Monitor, Participant};
-use rigid_proc::body::read_states;
-use rigid_proc::Body;
 use std::sync::Arc;
 
 /// What obeying an order gave; only rank 0's is used.
@@ -109,11 +109,11 @@ impl Gas {
     /// summed over the ranks (every rank calls it together): 6 per body,
     /// zero on a mass point.
     fn loads(&mut self) -> Vec<f64> {
-        let mut out = vec![0.0; 6 * self.rigid.len()];
+        let mut out = vec![0.0; LOAD_LEN * self.rigid.len()];
         for (body, &i) in self.gas.bodies.iter_mut().zip(&self.shaped) {
             let (f, t) = body.take_load();
-            out[6 * i..6 * i + 3].copy_from_slice(&f);
-            out[6 * i + 3..6 * i + 6].copy_from_slice(&t);
+            out[LOAD_LEN * i..LOAD_LEN * i + 3].copy_from_slice(&f);
+            out[LOAD_LEN * i + 3..LOAD_LEN * (i + 1)].copy_from_slice(&t);
         }
         self.comm.sum(&mut out);
         out
@@ -236,7 +236,7 @@ fn body_monitors(g: &Gas, loads: Option<&[f64]>) -> Vec<Monitor> {
     let mut out = Vec::new();
     for &i in &g.shaped {
         for (d, axis) in ["x", "y", "z"].iter().enumerate() {
-            let v = loads.map_or(f64::NAN, |l| l[6 * i + d]);
+            let v = loads.map_or(f64::NAN, |l| l[LOAD_LEN * i + d]);
             let name = format!("{}_fluid_force_{axis}", g.rigid[i].name);
             out.push(Monitor::new(name, v));
         }

@@ -10,8 +10,8 @@
 //! that outline in the plane, inside by the even–odd crossing rule.
 
 use crate::surface::{Segment, Surface};
+use exchange::Shape;
 use nalgebra::{Isometry3, Point3, Vector3};
-use rigid_proc::shape::Shape;
 
 /// The closest point of a body's surface to a point x.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -165,14 +165,9 @@ fn section_closest(segments: &[Segment], thin: usize, x: [f64; 3]) -> Closest {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rigid_section::ShapeSpec;
 
     fn cylinder(r: f64) -> (Shape, Surface) {
-        let shape = Shape::from_spec(&ShapeSpec::Cylinder {
-            radius: r,
-            height: 0.01,
-        })
-        .unwrap();
+        let shape = Shape::cylinder(r, 0.01);
         let surface = Surface::of(&shape, 1e-3);
         (shape, surface)
     }
@@ -211,10 +206,7 @@ mod tests {
     /// inside to the nearest face.
     #[test]
     fn a_cuboids_distance_in_3d_is_to_its_nearest_face() {
-        let shape = Shape::from_spec(&ShapeSpec::Cuboid {
-            size: [0.2, 0.4, 0.6],
-        })
-        .unwrap();
+        let shape = Shape::cuboid([0.2, 0.4, 0.6]);
         let surface = Surface::of(&shape, 0.05);
         let pose = Isometry3::translation(1.0, 1.0, 1.0);
         let placed = Placed::new(&shape, &surface, &pose, None);

@@ -9,9 +9,9 @@ use crate::grid::Grid;
 use crate::incompressible::{FlowSetup, Incompressible};
 use crate::part::Part;
 use crate::side::{bcs, Side};
+use exchange::Body;
 use fluid_section::flow::{body_halo_cells, SideSpec};
 use fluid_section::{FluidSection, Scene};
-use rigid_proc::Body;
 use std::sync::Arc;
 
 /// The flow of `[fluid]` with model = "incompressible", at its initial
@@ -138,11 +138,10 @@ pub fn gas_scene(scene: &Scene, comm: Arc<dyn Comm>) -> Result<GasScene, String>
     let section = &scene.fluid;
     let mut gas =
         gas_on(section, comm).ok_or("[fluid] lacks the box or the regions of the euler model")?;
-    let specs = scene.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
-    let rigid = specs
-        .iter()
-        .map(Body::from_spec)
-        .collect::<Result<Vec<_>, _>>()?;
+    let rigid = scene
+        .rigid
+        .as_ref()
+        .map_or(Ok(Vec::new()), |r| r.bodies())?;
     let origin = section.flow_box.map_or([0.0; 3], |b| b.lower);
     let spacing = gas.grid().finest();
     let mut shaped = Vec::new();

@@ -10,8 +10,8 @@
 //! the section's outline, each carrying its piece of outline times the
 //! box's thickness.
 
+use exchange::Shape;
 use nalgebra::{Isometry3, Point3, Vector3};
-use rigid_proc::shape::Shape;
 use std::f64::consts::PI;
 
 /// Most segments around a sphere or cylinder.
@@ -252,7 +252,7 @@ mod tests {
     use rigid_section::ShapeSpec;
 
     fn shape(spec: ShapeSpec) -> Shape {
-        Shape::from_spec(&spec).unwrap()
+        spec.shape().unwrap()
     }
 
     /// The markers of a sphere of radius 1 cover its area 4π and enclose

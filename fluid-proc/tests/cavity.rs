@@ -55,16 +55,15 @@ fn the_cavity_at_re_100_matches_ghia_and_the_converged_extrema() {
     // The shipped scene, run to its end (t = 15 s, steady to a few 1e-5
     // m/s²) by the library without the coupler.
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/cavity.toml");
-    let scenario =
-        fluid_section::Scene::load_file(std::path::Path::new(path)).expect("shipped scenario");
-    let section = &scenario.fluid;
+    let scene = fluid_section::Scene::load_file(std::path::Path::new(path)).expect("shipped scene");
+    let section = &scene.fluid;
     let lid = match section.resolved_sides().unwrap()[1][1] {
         SideSpec::Velocity(v) => v[0],
         s => panic!("the lid is {s:?}"),
     };
     let mut flow = flow_from(section).expect("a flow box");
-    for w in 0..scenario.windows() {
-        flow.step(scenario.window_span(w).1).unwrap();
+    for w in 0..scene.scenario.windows() {
+        flow.step(scene.scenario.window_span(w).1).unwrap();
     }
     // u on the vertical centre line x = ½ (face n/2 along x), v on the
     // horizontal one.

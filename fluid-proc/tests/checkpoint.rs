@@ -6,6 +6,7 @@
 //! history is live (Adams–Bashforth's Nⁿ and last Δt, the pressure and
 //! viscous solvers' first guesses, the bodies' recorded forcing).
 
+use exchange::Shape;
 use fluid_proc::canopy::{porous_law, sheet_markers};
 use fluid_proc::checkpoint::{Checkpoint, History};
 use fluid_proc::grid::Grid;
@@ -14,8 +15,6 @@ use fluid_proc::incompressible::{FlowSetup, Incompressible};
 use fluid_proc::side::{bcs, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::Isometry3;
-use rigid_proc::shape::Shape;
-use rigid_section::ShapeSpec;
 
 const SPEED: f64 = 1.0;
 const H: f64 = 1.0 / 24.0;
@@ -73,11 +72,7 @@ fn sheet(speed: f64) -> ImmersedBody {
 /// A cylinder of radius 0.15 m at (0.6, 0.5 + y) m moving at `v` across
 /// the stream, placed as fluid-proc places a body each window.
 fn place_cylinder(flow: &mut Incompressible, y: f64, v: f64) {
-    let shape = Shape::from_spec(&ShapeSpec::Cylinder {
-        radius: 0.15,
-        height: 1.0,
-    })
-    .unwrap();
+    let shape = Shape::cylinder(0.15, 1.0);
     let surface = Surface::of(&shape, H);
     let centre = [0.6, 0.5 + y, 0.0];
     let pose = Isometry3::translation(centre[0], centre[1], 0.0);

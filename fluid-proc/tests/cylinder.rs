@@ -12,6 +12,7 @@
 //! (John, Int. J. Numer. Meth. Fluids 44, 777–788, 2004, refined them to
 //! c_D = 5.5795, c_L = 0.010619, Δp = 0.11752.)
 
+use exchange::Shape;
 use fluid_proc::grid::Grid;
 use fluid_proc::immersed::{place_markers, ImmersedBody, RETRACTION};
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
@@ -19,8 +20,6 @@ use fluid_proc::pressure_force::{pressure_load, surface_pressure};
 use fluid_proc::side::{bcs, parabola, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::Isometry3;
-use rigid_proc::shape::Shape;
-use rigid_section::ShapeSpec;
 
 const LENGTH: f64 = 2.2;
 const HEIGHT: f64 = 0.41;
@@ -69,11 +68,7 @@ fn cylinder(nx: usize, ny: usize, time: f64) -> Measured {
         flow.u.u[0][(nx + 1) * j..(nx + 1) * (j + 1)].fill(u);
     }
     flow.impose_sides();
-    let shape = Shape::from_spec(&ShapeSpec::Cylinder {
-        radius: DIAMETER / 2.0,
-        height: 1.0,
-    })
-    .unwrap();
+    let shape = Shape::cylinder(DIAMETER / 2.0, 1.0);
     let surface = Surface::of(&shape, h[0]);
     let pose = Isometry3::translation(CENTRE[0], CENTRE[1], 0.0);
     let (markers, volume) = place_markers(&surface, &pose, flow.grid(), [0.0; 3]);

@@ -12,13 +12,13 @@ use rigid_section::ShapeSpec;
 /// numbers): u_p = 1 m/s into ρ₁ = p₁ = 1, γ = 1.4.
 #[test]
 fn a_piston_drives_the_exact_shock_within_1_percent() {
-    let scenario = shipped("piston");
-    let gamma = scenario.fluid.gamma();
+    let scene = shipped("piston");
+    let gamma = scene.fluid.gamma();
     let (rho1, p1, up) = (1.0, 1.0, 1.0);
     let (w, rho2, p2) = piston_shock(gamma, rho1, p1, up);
     assert!((w - 1.926650).abs() < 1e-6 && (rho2 - 2.079156).abs() < 1e-6);
-    let t = scenario.run.end_time;
-    let gas = run_to_end(&scenario);
+    let t = scene.scenario.run.end_time;
+    let gas = run_to_end(&scene);
     let n = gas.setup.n[0];
     let h = gas.setup.h[0];
     // Row 1 of the channel's 4 (the gas is the same across it).
@@ -83,16 +83,16 @@ fn oblique_shock(m: f64, theta: f64, gamma: f64) -> f64 {
 /// the inflow) on 120 to 300 cells along x.
 #[test]
 fn a_wedge_stands_the_oblique_shock_of_theta_beta_mach() {
-    let scenario = shipped("wedge");
-    let gamma = scenario.fluid.gamma();
+    let scene = shipped("wedge");
+    let gamma = scene.fluid.gamma();
     let (m, theta, p1) = (2.5, 15f64.to_radians(), 1.0);
     let beta = oblique_shock(m, theta, gamma);
     let mn2 = (m * beta.sin()).powi(2);
     let p2 = p1 * (1.0 + 2.0 * gamma / (gamma + 1.0) * (mn2 - 1.0));
     assert!((beta.to_degrees() - 36.94).abs() < 0.01 && (p2 - 2.468).abs() < 1e-3);
-    let mut gas = start(&scenario);
+    let mut gas = start(&scene);
     let before: Vec<f64> = (0..3).map(|v| gas.totals()[v]).collect();
-    let t = scenario.run.end_time;
+    let t = scene.scenario.run.end_time;
     gas.advance(t).unwrap();
     // The budget: what the gas holds less what came in through the sides
     // and plus the impulse it gave the wedge (the mean load times t).
@@ -105,7 +105,7 @@ fn a_wedge_stands_the_oblique_shock_of_theta_beta_mach() {
     });
     // Mass against what streamed in (ρ₁u₁ over the inflow side for t),
     // momentum against the impulse the wedge took.
-    let [_, height, depth] = scenario.fluid.flow_box.unwrap().upper;
+    let [_, height, depth] = scene.fluid.flow_box.unwrap().upper;
     let streamed = 1.4 * 2.5 * height * depth * t;
     let impulse = (load[0].hypot(load[1])) * t;
     eprintln!(
@@ -170,8 +170,8 @@ fn a_wedge_stands_the_oblique_shock_of_theta_beta_mach() {
 }
 
 /// A uniform gas at rest, everywhere at `density` and `pressure`.
-fn at_rest(scenario: &mut Scene, density: f64, pressure: f64) {
-    scenario.fluid.regions = Some(vec![GasRegion {
+fn at_rest(scene: &mut Scene, density: f64, pressure: f64) {
+    scene.fluid.regions = Some(vec![GasRegion {
         lower: None,
         upper: None,
         density,
@@ -179,7 +179,7 @@ fn at_rest(scenario: &mut Scene, density: f64, pressure: f64) {
         pressure,
         density_wave: None,
     }]);
-    scenario.fluid.sides = None;
+    scene.fluid.sides = None;
 }
 
 /// A body at rest in gas at rest: the gas stays uniform and the load on
@@ -188,23 +188,23 @@ fn at_rest(scenario: &mut Scene, density: f64, pressure: f64) {
 /// across a 2-D box and a sphere in a 3-D one, 50 steps each.
 #[test]
 fn a_body_at_rest_in_gas_at_rest_leaves_it_uniform_to_round_off() {
-    let mut scenario = shipped("wedge");
-    at_rest(&mut scenario, 1.4, 1.0);
-    let body = &mut scenario.rigid.as_mut().unwrap().bodies[0];
+    let mut scene = shipped("wedge");
+    at_rest(&mut scene, 1.4, 1.0);
+    let body = &mut scene.rigid.as_mut().unwrap().bodies[0];
     body.shape = Some(ShapeSpec::Cylinder {
         radius: 0.1,
         height: 0.01,
     });
     body.position = [0.43, 0.31, 0.005];
-    let two_d = scenario.clone();
-    let body = &mut scenario.rigid.as_mut().unwrap().bodies[0];
+    let two_d = scene.clone();
+    let body = &mut scene.rigid.as_mut().unwrap().bodies[0];
     body.shape = Some(ShapeSpec::Sphere { radius: 0.1 });
     body.position = [0.23, 0.21, 0.19];
-    let b = scenario.fluid.flow_box.as_mut().unwrap();
+    let b = scene.fluid.flow_box.as_mut().unwrap();
     (b.upper, b.cells) = ([0.4, 0.4, 0.4], [20, 20, 20]);
     for (scene, area) in [
         (two_d, 2.0 * std::f64::consts::PI * 0.1 * 0.01),
-        (scenario, 0.126),
+        (scene, 0.126),
     ] {
         let mut gas = start(&scene);
         for _ in 0..50 {

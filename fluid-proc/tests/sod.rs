@@ -32,9 +32,9 @@ fn total_variation(v: &[f64]) -> f64 {
 
 #[test]
 fn sods_star_state_matches_the_exact_solution_within_1_percent() {
-    let scenario = shipped("sod");
-    let t = scenario.run.end_time;
-    let gas = run_to_end(&scenario);
+    let scene = shipped("sod");
+    let t = scene.scenario.run.end_time;
+    let gas = run_to_end(&scene);
     let n = gas.setup.n[0];
     let x = |i: usize| (i as f64 + 0.5) / n as f64;
     let riemann = exact(gas.setup.gas);
@@ -90,12 +90,12 @@ fn sods_star_state_matches_the_exact_solution_within_1_percent() {
 fn mass_and_energy_are_conserved_and_momentum_grows_by_the_end_pressures() {
     // No wave reaches the transmissive ends by t = 0.2, so nothing crosses
     // them but the momentum flux p: d(Σ ρu V)/dt = (p_left − p_right)·A.
-    let scenario = shipped("sod");
-    let t = scenario.run.end_time;
-    let b = scenario.fluid.flow_box.unwrap();
+    let scene = shipped("sod");
+    let t = scene.scenario.run.end_time;
+    let b = scene.fluid.flow_box.unwrap();
     let area = (b.upper[1] - b.lower[1]) * (b.upper[2] - b.lower[2]);
-    let before = common::run_to(&scenario, 0.0).totals();
-    let after = run_to_end(&scenario).totals();
+    let before = common::run_to(&scene, 0.0).totals();
+    let after = run_to_end(&scene).totals();
     assert!((after[0] / before[0] - 1.0).abs() < 1e-13, "mass");
     assert!((after[4] / before[4] - 1.0).abs() < 1e-13, "energy");
     let momentum = (1.0 - 0.1) * area * t;
@@ -108,15 +108,15 @@ fn a_closed_tube_keeps_its_mass_and_energy_through_the_reflections() {
     // Reflecting walls at both ends, run to t = 1: the shock and the
     // rarefaction cross the tube and reflect several times. The walls let
     // no mass or energy through, so both stay put to round-off.
-    let mut scenario = shipped("sod");
-    let fluid = &mut scenario.fluid;
+    let mut scene = shipped("sod");
+    let fluid = &mut scene.fluid;
     let mut sides = fluid.sides.unwrap();
     sides.x_low = Some(fluid_section::flow::SideSpec::Wall);
     sides.x_high = Some(fluid_section::flow::SideSpec::Wall);
     fluid.sides = Some(sides);
-    scenario.run.end_time = 1.0;
-    let before = common::run_to(&scenario, 0.0).totals();
-    let after = run_to_end(&scenario).totals();
+    scene.scenario.run.end_time = 1.0;
+    let before = common::run_to(&scene, 0.0).totals();
+    let after = run_to_end(&scene).totals();
     assert!((after[0] / before[0] - 1.0).abs() < 1e-13, "mass {after:?}");
     assert!(
         (after[4] / before[4] - 1.0).abs() < 1e-13,
@@ -128,10 +128,10 @@ fn a_closed_tube_keeps_its_mass_and_energy_through_the_reflections() {
 fn the_tube_gives_the_same_gas_along_y_and_z() {
     // The flux along each axis is the x formula on permuted momenta
     // (`Gas::rotated`): the tube laid along y or z must give the x result.
-    let scenario = shipped("sod");
-    let along_x: Vec<Primitive> = run_to_end(&scenario).primitives();
+    let scene = shipped("sod");
+    let along_x: Vec<Primitive> = run_to_end(&scene).primitives();
     for axis in [1, 2] {
-        let mut turned = scenario.clone();
+        let mut turned = scene.clone();
         let fluid = &mut turned.fluid;
         let b = fluid.flow_box.as_mut().unwrap();
         let turn = |v: [f64; 3]| {

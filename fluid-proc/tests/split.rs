@@ -14,6 +14,7 @@
 //! marker (rank 0 shares them), the air's velocity at a marker whose
 //! kernel straddles two slabs being a sum over the ranks: round-off again.
 
+use exchange::Shape;
 use fluid_proc::canopy::sheet_markers;
 use fluid_proc::comm::Comm;
 use fluid_proc::grid::Grid;
@@ -23,8 +24,6 @@ use fluid_proc::part::Part;
 use fluid_proc::side::{bcs, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::{Isometry3, Vector3};
-use rigid_proc::shape::Shape;
-use rigid_section::ShapeSpec;
 use std::collections::{HashMap, VecDeque};
 use std::f64::consts::PI;
 use std::sync::{Arc, Condvar, Mutex};
@@ -165,7 +164,7 @@ fn taylor_green(n: [usize; 3], z: Side, ranks: usize, steps: usize, bodies: bool
 fn place_bodies(flow: &mut Incompressible) {
     let g = flow.grid().clone();
     let spacing = g.spacing_range().0;
-    let sphere = Shape::from_spec(&ShapeSpec::Sphere { radius: 1.0 }).unwrap();
+    let sphere = Shape::sphere(1.0);
     let c = [PI; 3];
     let pose = Isometry3::new(Vector3::from(c), Vector3::zeros());
     let (markers, volume) = place_markers(&Surface::of(&sphere, spacing), &pose, &g, [0.0; 3]);

@@ -17,11 +17,11 @@ const UP: f64 = 1.0;
 
 #[test]
 fn gas_entering_at_a_shocks_state_makes_that_shock_within_1_percent() {
-    let mut scenario = shipped("sod");
-    let gamma = scenario.fluid.gamma();
+    let mut scene = shipped("sod");
+    let gamma = scene.fluid.gamma();
     let (w, rho2, p2) = piston_shock(gamma, 1.0, 1.0, UP);
     assert!((w - 1.926650).abs() < 1e-6 && (rho2 - 2.079156).abs() < 1e-6);
-    let fluid = &mut scenario.fluid;
+    let fluid = &mut scene.fluid;
     let mut sides = fluid.sides.unwrap();
     sides.x_low = Some(SideSpec::State(GasState {
         density: rho2,
@@ -37,9 +37,9 @@ fn gas_entering_at_a_shocks_state_makes_that_shock_within_1_percent() {
         pressure: 1.0,
         density_wave: None,
     }]);
-    scenario.run.end_time = 0.25;
-    let t = scenario.run.end_time - scenario.run.start_time;
-    let gas = run_to_end(&scenario);
+    scene.scenario.run.end_time = 0.25;
+    let t = scene.scenario.run.end_time - scene.scenario.run.start_time;
+    let gas = run_to_end(&scene);
     let cells = gas.primitives();
     let n = gas.setup.n[0];
     let x = |i: usize| (i as f64 + 0.5) / n as f64;

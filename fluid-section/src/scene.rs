@@ -244,5 +244,3 @@ fn check_ranks(c: &mut Checker, s: &FluidSection, ranks: u32, walls: bool) {
         );
     }
 }
-
-scenario::reads_through!(Scene);

@@ -58,6 +58,10 @@ pub struct Declaration {
     /// needs; [`RESTARTS`] for `WriteCheckpoint` and `Resume`, which run
     /// checkpoints and `coupler run --restart` need.
     pub supports: Vec<String>,
+    /// The manifest key of the summary it writes at its end
+    /// ([`Declaration::summary`]).
+    #[serde(default)]
+    pub summary: Option<String>,
 }
 
 impl Declaration {
@@ -69,6 +73,7 @@ impl Declaration {
             reads: Vec::new(),
             monitors: Vec::new(),
             supports: Vec::new(),
+            summary: None,
         }
     }
 
@@ -114,6 +119,14 @@ impl Declaration {
     /// become the columns `<participant>.<name>` of `monitors.csv`.
     pub fn monitors<S: Into<String>>(mut self, names: impl IntoIterator<Item = S>) -> Self {
         self.monitors.extend(names.into_iter().map(Into::into));
+        self
+    }
+
+    /// Writes, when the run ends, a summary of it
+    /// ([`crate::Participant::summarize`]): its values go into the run's
+    /// `manifest.json` under `name`, its line to the coupler's stderr.
+    pub fn summary(mut self, name: impl Into<String>) -> Self {
+        self.summary = Some(name.into());
         self
     }
 
@@ -189,6 +202,13 @@ impl Declaration {
             if m.is_empty() || m.contains(',') || !seen.insert(("m", m.as_str())) {
                 return Some(format!(
                     "monitor `{m}` is empty, holds a comma or is declared twice"
+                ));
+            }
+        }
+        if let Some(name) = &self.summary {
+            if !crate::names::is_plain(name) {
+                return Some(format!(
+                    "summary name `{name}` is not plain: letters, digits, `_ - .`"
                 ));
             }
         }

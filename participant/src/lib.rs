@@ -36,6 +36,7 @@ mod participant;
 mod presence;
 pub mod restart;
 mod service;
+mod summary;
 mod timing;
 mod usage;
 mod verdict;
@@ -48,6 +49,7 @@ pub use error::{ChannelError, ExchangeError, JoinError};
 pub use joining::{connect, connect_as, Joining};
 pub use monitors::Monitor;
 pub use participant::{FieldView, Participant};
+pub use summary::Summary;
 pub use timing::{Advance, Cadence, Command, Timing};
 
 // What the coupler uses and a solver does not: public with the `coupler`

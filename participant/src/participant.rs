@@ -43,6 +43,7 @@ use crate::fields::{Inputs, Outputs};
 use crate::implicit::Tries;
 use crate::monitors::{Batch, Monitor, Rows};
 use crate::restart;
+use crate::summary::Summary;
 use crate::timing::{Command, Plan, Timing};
 use crate::verdict::{self, Heard};
 use crate::wait::{WaitError, Waiter};
@@ -119,6 +120,8 @@ pub struct Participant {
     reported: Instant,
     /// Whether a failure was reported.
     failed: bool,
+    /// What it says of its run, sent when it finishes.
+    summary: Option<Summary>,
     clock: Clock,
     connected: Instant,
     /// When the coupler was last found alive ([`COUPLER_LOOK`]).
@@ -158,6 +161,7 @@ impl Participant {
             pending: None,
             reported: now,
             failed: false,
+            summary: None,
             clock: Clock {
                 back: now,
                 started: now,
@@ -569,13 +573,23 @@ impl Participant {
         }
     }
 
-    /// After `Stop`: send the last monitor rows and this process's
-    /// statistics; `substeps` is the number of internal sub-steps the
-    /// solver took. The process then exits 0.
+    /// What this participant says of its whole run (under the name it
+    /// declared with [`crate::Declaration::summary`]): sent by
+    /// [`Participant::finish`], once the last monitor rows are.
+    pub fn summarize(&mut self, summary: Summary) {
+        self.summary = Some(summary);
+    }
+
+    /// After `Stop`: send the last monitor rows, the summary if there is
+    /// one, and this process's statistics; `substeps` is the number of
+    /// internal sub-steps the solver took. The process then exits 0.
     pub fn finish(mut self, substeps: u64) -> Result<(), ExchangeError> {
         let entered = self.clock.enter();
         self.waiter.presence.own().leave();
         self.send_rows(true)?;
+        if let Some(summary) = self.summary.take() {
+            self.control.send(&FromParticipant::Summary(summary))?;
+        }
         self.linger();
         self.clock.leave(entered, Duration::ZERO, Duration::ZERO);
         let mut stats = self.clock.stats.clone();

@@ -21,6 +21,7 @@ pub use crate::channel::{
     cleanup_dead_nodes, services_of_run, stale_node_entries, HALF_CREATED_AGE,
 };
 pub use crate::names::{new_run_id, ENV_PARTICIPANT, ENV_RANKS, ENV_RUN_ID};
+pub use crate::summary::Summary;
 pub use crate::wire::{Setup, Stats};
 
 /// What a running participant reports.
@@ -35,6 +36,9 @@ pub enum Report {
         values: Vec<f64>,
     },
     Finished(Stats),
+    /// What the participant says of its whole run, under the name it
+    /// declared.
+    Summary(Summary),
     /// The participant writes the run checkpoint that goes with the first
     /// `rows` rows, and waits for [`Supervisor::rows_kept`].
     Checkpoint {
@@ -334,6 +338,11 @@ impl Supervisor {
         self.send(i, &ToParticipant::RowsKept { rows })
     }
 
+    /// Whether participant `i` declared the summary `name`.
+    fn declared_summary(&self, i: usize, name: &str) -> bool {
+        self.declarations.get(i).and_then(|d| d.summary.as_deref()) == Some(name)
+    }
+
     /// The next report of any participant, waiting at most `slice` for one.
     pub fn next_report(&self, slice: Duration) -> Result<Option<(usize, Report)>, SuperviseError> {
         let deadline = Instant::now() + slice;
@@ -355,6 +364,9 @@ impl Supervisor {
                         values,
                     },
                     FromParticipant::Finished(stats) => Report::Finished(stats),
+                    FromParticipant::Summary(s) if self.declared_summary(i, &s.name) => {
+                        Report::Summary(s)
+                    }
                     FromParticipant::Checkpoint { rows } => Report::Checkpoint { rows },
                     FromParticipant::Tried { window, tries } => Report::Tried { window, tries },
                     other => return Err(self.protocol(i, "a report", other)),

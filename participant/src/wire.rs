@@ -8,10 +8,11 @@
 //! participant opens its ports and says `Ready`, and the coupler says
 //! `Start` once everyone is ready. From then on each participant follows
 //! the schedule by itself and only reports: monitor rows, a failure, or
-//! its statistics at the end; at a run checkpoint it asks the coupler to
+//! its summary and statistics at the end; at a run checkpoint it asks the coupler to
 //! keep the rows so far on disk, and waits for the answer.
 
 use crate::declaration::Declaration;
+use crate::summary::Summary;
 use crate::timing::Timing;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -154,6 +155,9 @@ pub enum FromParticipant {
         window: u64,
         tries: u32,
     },
+    /// What the participant says of its whole run, sent just before
+    /// `Finished`.
+    Summary(Summary),
     /// The participant cannot go on (diverged, bad input); it exits non-zero after this.
     Failed {
         reason: String,

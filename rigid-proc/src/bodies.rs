@@ -2,9 +2,10 @@
 //! structure's impulses at their attachment points, rigid–rigid contacts,
 //! then every body advanced under gravity and the fluid's loads.
 
-use crate::body::{Body, MOMENTUM_LEN, STATE_LEN};
 use crate::contact;
 use crate::motion::{advance, Load};
+use exchange::body::{self, Body};
+use exchange::fields::{MOMENTUM_LEN, STATE_LEN};
 use nalgebra::Vector3;
 use rigid_section::AttachmentSpec;
 use rigid_section::{pair_restitution, RigidSection};
@@ -22,7 +23,7 @@ pub struct Bodies {
     pub contact_impulses: u64,
     /// Each body's motion as the scene gives it; one with a release time
     /// moves as a prescribed body before it (`Body::motion_at`).
-    motions: Vec<rigid_section::Motion>,
+    motions: Vec<exchange::Motion>,
     /// Time since the start [s], summed over the steps.
     pub time: f64,
 }
@@ -30,11 +31,7 @@ pub struct Bodies {
 impl Bodies {
     /// The bodies of `[rigid]`; `attached` lists the attachment points.
     pub fn new(s: &RigidSection, attached: &[AttachmentSpec]) -> Result<Bodies, String> {
-        let bodies = s
-            .bodies
-            .iter()
-            .map(|b| Body::from_spec(b).map_err(|e| format!("body `{}`: {e}", b.name)))
-            .collect::<Result<Vec<Body>, String>>()?;
+        let bodies = s.bodies()?;
         let attachments = attached
             .iter()
             .map(|a| {
@@ -61,7 +58,7 @@ impl Bodies {
 
     /// Each body's motion at the present time: held until its release.
     pub fn hold(&mut self) {
-        crate::body::hold(&mut self.bodies, &self.motions, self.time);
+        body::hold(&mut self.bodies, &self.motions, self.time);
     }
 
     /// One sub-step of `h`: the impulses `impulse` (3 per attachment point,

@@ -12,7 +12,7 @@
 //! approach speed, so bodies never pass through each other; an impact is
 //! taken up to one sub-step early, a position error of at most vₙ·h.
 
-use crate::body::Body;
+use exchange::Body;
 use nalgebra::Vector3;
 use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 

@@ -4,33 +4,19 @@
 //! The physics stays in [`Bodies`]; the IPC stays here and in the
 //! participant library.
 
-use crate::body::STATE_LEN;
 use crate::checkpoint::Checkpoint;
 use crate::output::{write_points, write_surfaces};
 use crate::{Bodies, Load};
+use exchange::fields::{
+    ATTACHMENT_IMPULSE, ATTACHMENT_STATE, ATTACHMENT_STATE_LEN, BODY_LOADS, BODY_STATES,
+    COLLISION_BODIES, COLLISION_IMPULSE, LOAD_LEN, STATE_LEN,
+};
 use nalgebra::Vector3;
 use participant::vtu::Series;
 use participant::{Advance, Cadence, Command, Declaration, Monitor, Participant};
 use rigid_section::Scene;
 
 type Error = Box<dyn std::error::Error>;
-
-/// The fields rigid bodies exchange, by name (docs/PROTOCOL.md, "Fields").
-pub mod fields {
-    /// Written every step: each attachment point's position and velocity (6).
-    pub const ATTACHMENT_STATE: &str = "attachment.state";
-    /// Read every step: the structure's impulse on each attachment point (3).
-    pub const ATTACHMENT_IMPULSE: &str = "attachment.impulse";
-    /// Written every step: every body's state (13), for the structure's collisions.
-    pub const COLLISION_BODIES: &str = "collision.bodies";
-    /// Read every step: the structure's collision impulses on each body (6).
-    pub const COLLISION_IMPULSE: &str = "collision.impulse";
-    /// Written at the start and every window end: every body's state (13).
-    pub const BODY_STATES: &str = "body.states";
-    /// Read once a window: the fluid's force and torque on each body (6).
-    pub const BODY_LOADS: &str = "body.loads";
-}
-use fields::*;
 
 fn monitors(b: &Bodies) -> Vec<Monitor> {
     let (p, l) = (b.momentum(), b.angular_momentum());
@@ -82,7 +68,7 @@ fn monitors(b: &Bodies) -> Vec<Monitor> {
 }
 
 fn publish(p: &mut Participant, b: &Bodies, window_end: bool) -> Result<(), Error> {
-    let n = 6 * b.attachments.len();
+    let n = ATTACHMENT_STATE_LEN * b.attachments.len();
     p.write_field(ATTACHMENT_STATE, n, |out| b.attachment_state(out))?;
     let n = STATE_LEN * b.bodies.len();
     p.write_field(COLLISION_BODIES, n, |out| b.write_states(out))?;
@@ -100,7 +86,11 @@ fn declaration(b: &Bodies, n_i: u32) -> Declaration {
     Declaration::new(Cadence::PerImpulse {
         substeps_per_window: n_i,
     })
-    .writes(ATTACHMENT_STATE, 6, b.attachments.len())
+    .writes(
+        ATTACHMENT_STATE,
+        ATTACHMENT_STATE_LEN as u32,
+        b.attachments.len(),
+    )
     .writes(COLLISION_BODIES, STATE_LEN as u32, n)
     .writes(BODY_STATES, STATE_LEN as u32, n)
     .reads_if_written(BODY_LOADS)
@@ -246,7 +236,7 @@ impl Driven {
         if p.is_connected(BODY_LOADS) && self.loads_window != Some(step.window) {
             let f = p.read_field(BODY_LOADS)?;
             self.loads = f
-                .chunks_exact(6)
+                .chunks_exact(LOAD_LEN)
                 .map(|c| Load {
                     force: Vector3::new(c[0], c[1], c[2]),
                     torque: Vector3::new(c[3], c[4], c[5]),

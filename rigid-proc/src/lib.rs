@@ -5,17 +5,12 @@
 //! connects it to the participant library, and `main.rs` only calls it.
 
 pub mod bodies;
-pub mod body;
 pub mod checkpoint;
 pub mod contact;
 pub mod driver;
-pub mod euler_parameters;
-pub mod mass;
 pub mod motion;
 pub mod output;
 pub mod rk4;
-pub mod shape;
 
 pub use bodies::Bodies;
-pub use body::{Body, State};
 pub use motion::Load;

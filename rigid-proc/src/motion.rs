@@ -4,11 +4,11 @@
 //! with the fourth-order Runge–Kutta step (3.1); e is renormalised after
 //! every step to keep eq. (3.2).
 
-use crate::body::{Body, State};
-use crate::euler_parameters as ep;
 use crate::rk4::rk4;
+use exchange::euler_parameters as ep;
+use exchange::Motion;
+use exchange::{Body, State};
 use nalgebra::{Rotation3, Vector3, Vector4};
-use rigid_section::Motion;
 
 /// Force and torque about the centre of mass [N, N·m], world axes, held
 /// over a step (the fluid's eq. 2.40 load, for instance).

@@ -1,12 +1,11 @@
 //! Rigid-body dynamics against closed forms and conservation laws
 //! (dissertation §2.1 eq. 2.12, §3.1.1 eqs. 3.1–3.6).
 
+use exchange::euler_parameters as ep;
+use exchange::mass::MassProperties;
+use exchange::{Body, Motion, State};
 use nalgebra::{Matrix3, Vector3};
-use rigid_proc::euler_parameters as ep;
-use rigid_proc::mass::MassProperties;
 use rigid_proc::motion::{advance, Load};
-use rigid_proc::{Body, State};
-use rigid_section::Motion;
 
 /// A free body with principal moments `i` [kg·m²], mass 1 kg, at rest at the
 /// origin with orientation `e` and body angular velocity `w`.

@@ -2,6 +2,7 @@
 //! mass points, or finite bodies with a shape whose mass, centre of mass and
 //! inertia come from their geometry.
 
+use exchange::Motion;
 use mesh::TriangleMesh;
 use nalgebra::{Rotation3, Vector3};
 use scenario::{section, Checker, Problem, ScenarioError, Seg};
@@ -9,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 mod attachments;
+mod body;
 pub mod mesh;
 mod scene;
 
@@ -77,20 +79,6 @@ pub struct BodySpec {
     /// parachute until release).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub release_time: Option<f64>,
-}
-
-/// How a body moves.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Motion {
-    /// Moved by its loads: Newton's law and Euler's equations (dissertation eq. 2.12).
-    #[default]
-    Dynamic,
-    /// Held in place; infinitely heavy in contacts.
-    Static,
-    /// Moves with its given `velocity` and `angular_velocity` whatever acts on
-    /// it; infinitely heavy in contacts.
-    Prescribed,
 }
 
 /// A body's geometry, in its own frame.

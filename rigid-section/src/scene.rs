@@ -31,5 +31,3 @@ impl Scene {
         })
     }
 }
-
-scenario::reads_through!(Scene);

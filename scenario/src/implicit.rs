@@ -3,29 +3,24 @@
 //! `scheme.rs` and PROTOCOL.md, "Implicit coupling").
 
 use crate::check::Checker;
+use exchange::fields::{
+    self, ATTACHMENT_STATE, BODY_LOADS, BODY_STATES, CANOPY_POSITIONS, CANOPY_PRESSURE,
+    CANOPY_VELOCITIES,
+};
 use serde::{Deserialize, Serialize};
 
 /// The interface fields accelerated by default: those the fluid reads at
 /// a window's start, written by the structure and the rigid bodies at its
 /// end.
-pub const DEFAULT_ACCELERATED: [&str; 3] = ["canopy.positions", "canopy.velocities", "body.states"];
+pub const DEFAULT_ACCELERATED: [&str; 3] = [CANOPY_POSITIONS, CANOPY_VELOCITIES, BODY_STATES];
 /// Accelerated by default too under the parallel scheme, where the
 /// structure and the rigid bodies read them at a window's start from the
 /// fluid's last try: the fluid's answers.
-pub const PARALLEL_ACCELERATED: [&str; 2] = ["canopy.pressure", "body.loads"];
+pub const PARALLEL_ACCELERATED: [&str; 2] = [CANOPY_PRESSURE, BODY_LOADS];
 /// Accelerated by default too when the structure and the bodies iterate
 /// each window (`CouplingSection::bodies_iterate`): the attachment points
 /// the structure reads at a window's start, written at its end.
-pub const BODIES_ITERATE_ACCELERATED: &str = "attachment.state";
-/// The fields exchanged at every impulse sub-step (docs/PROTOCOL.md,
-/// "Fields"): with more than one a window, they cannot be relaxed once a
-/// window.
-pub const PER_IMPULSE_FIELDS: [&str; 4] = [
-    "attachment.state",
-    "attachment.impulse",
-    "collision.bodies",
-    "collision.impulse",
-];
+pub const BODIES_ITERATE_ACCELERATED: &str = ATTACHMENT_STATE;
 /// Default convergence limit ‖r‖₂ ≤ relative·‖x‖₂ per accelerated field.
 pub const DEFAULT_RELATIVE: f64 = 1e-5;
 /// Default ω: constant relaxation's, Aitken's first, IQN-ILS's before it
@@ -258,7 +253,7 @@ impl ImplicitSection {
         }
         let per_impulse = accelerated
             .iter()
-            .find(|f| PER_IMPULSE_FIELDS.contains(&f.as_str()));
+            .find(|f| fields::PER_IMPULSE.contains(&f.as_str()));
         if let (false, Some(field)) = (bodies_iterate, per_impulse) {
             c.problem(
                 &at("accelerate"),
@@ -308,16 +303,16 @@ mod tests {
         let mut s = ImplicitSection {
             absolute: Some(1e-8),
             field: vec![FieldLimits {
-                name: "canopy.velocities".into(),
+                name: CANOPY_VELOCITIES.into(),
                 relative: Some(1e-4),
                 absolute: None,
             }],
             ..Default::default()
         };
-        assert_eq!(s.limits("canopy.velocities"), (Some(1e-4), None));
-        assert_eq!(s.limits("canopy.positions"), (None, Some(1e-8)));
+        assert_eq!(s.limits(CANOPY_VELOCITIES), (Some(1e-4), None));
+        assert_eq!(s.limits(CANOPY_POSITIONS), (None, Some(1e-8)));
         s.absolute = None;
-        assert_eq!(s.limits("canopy.positions"), (Some(DEFAULT_RELATIVE), None));
+        assert_eq!(s.limits(CANOPY_POSITIONS), (Some(DEFAULT_RELATIVE), None));
     }
 
     /// The default list closes the structure–body loop when it is iterated;
@@ -333,7 +328,7 @@ mod tests {
         // The parallel scheme relaxes the fluid's answers too.
         let parallel = s.accelerated(false, true);
         assert_eq!(parallel[DEFAULT_ACCELERATED.len()..], PARALLEL_ACCELERATED);
-        s.accelerate = Some(vec!["body.states".into()]);
-        assert_eq!(s.accelerated(true, true), ["body.states"]);
+        s.accelerate = Some(vec![BODY_STATES.into()]);
+        assert_eq!(s.accelerated(true, true), [BODY_STATES]);
     }
 }

@@ -92,28 +92,6 @@ pub fn table_names(path: &Path, text: &str) -> Result<Vec<String>, ScenarioError
     Ok(names.into_iter().map(|(_, k)| k).collect())
 }
 
-/// Lets a program's scene (the coupling part in a field `scenario`, and
-/// the tables the program reads) be read as the coupling part:
-/// `scene.coupling.window`, `scene.windows()`.
-#[macro_export]
-macro_rules! reads_through {
-    ($scene:ty) => {
-        impl std::ops::Deref for $scene {
-            type Target = $crate::Scenario;
-
-            fn deref(&self) -> &$crate::Scenario {
-                &self.scenario
-            }
-        }
-
-        impl std::ops::DerefMut for $scene {
-            fn deref_mut(&mut self) -> &mut $crate::Scenario {
-                &mut self.scenario
-            }
-        }
-    };
-}
-
 /// Deserialises one entry of the top-level table and skips the others, so
 /// that the entry's errors keep their spans in the whole document.
 struct Pick<'a, T> {

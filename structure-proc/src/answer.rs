@@ -131,13 +131,13 @@ fn layer_warning(section: &StructureSection, m: &Model) -> Option<String> {
 /// structure numbers them: its body's 1/m plus |r|²/I_min for the point r
 /// off the centre of mass (0 for a static or prescribed body).
 fn attachment_weights(scene: &Scene, path: &Path, text: &str) -> Result<Vec<f64>, Error> {
-    let specs = structure_section::attachments(path, text)?;
+    let specs = rigid_section::attachments(path, text)?;
     let bodies = scene.rigid.as_ref().map_or(&[][..], |r| &r.bodies[..]);
-    let weight = |a: &structure_section::AttachmentSpec| -> Result<f64, Error> {
+    let weight = |a: &rigid_section::AttachmentSpec| -> Result<f64, Error> {
         let Some(spec) = bodies.iter().find(|b| b.name == a.body) else {
             return Ok(0.0);
         };
-        let body = rigid_proc::Body::from_spec(spec)?;
+        let body = spec.body()?;
         let w = body.inv_mass();
         if w == 0.0 {
             return Ok(0.0);

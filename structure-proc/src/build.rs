@@ -11,9 +11,10 @@ use crate::model::{Attachment, Model, NodeKind, Spring};
 use crate::network::Network;
 use crate::parachute::{circular_canopy, CanopyMesh};
 use crate::rectangle::{rectangle, Edge};
+use rigid_section::{BodySpec, RigidSection};
 use std::collections::BTreeSet;
 use structure_section::parachute::CanopyShape;
-use structure_section::{BodySpec, RigidSection, StructureSection};
+use structure_section::StructureSection;
 use structure_section::{Cloth, ClothHold, ClothPlane, Parachute};
 use structure_section::{Damping, Elasticity};
 

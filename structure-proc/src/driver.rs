@@ -9,12 +9,17 @@
 use crate::checkpoint::Checkpoint;
 use crate::collision::{Contacts, Obstacles, Stats};
 use crate::divergence::Watch;
-use crate::fields::*;
 use crate::forces::Loads;
+use crate::opening;
+use crate::opening::Record;
 use crate::output::Output;
 use crate::stability::{omega_max, OMEGA_MAX_MONITOR};
 use crate::window_start::WindowStart;
 use crate::{build_model, Model, NodeKind};
+use exchange::fields::{
+    ATTACHMENT_IMPULSE, ATTACHMENT_STATE, CANOPY_POSITIONS, CANOPY_PRESSURE, CANOPY_TRIANGLES,
+    CANOPY_VELOCITIES, COLLISION_BODIES, COLLISION_IMPULSE, MOMENTUM_LEN, TRIANGLE_LEN, VECTOR_LEN,
+};
 use nalgebra::Vector3;
 use participant::{Advance, Cadence, Command, Declaration, FieldView, Monitor, Participant};
 use structure_section::{Scene, StructureSection};
@@ -108,9 +113,9 @@ fn monitors(
 
 /// Canopy positions and velocities for the fluid (and, once, its triangles).
 fn publish_canopy(p: &mut Participant, m: &Model, with_triangles: bool) -> Result<(), Error> {
-    let n = 3 * m.canopy_nodes;
+    let n = VECTOR_LEN * m.canopy_nodes;
     if with_triangles {
-        p.write_field(CANOPY_TRIANGLES, 3 * m.triangles.len(), |out| {
+        p.write_field(CANOPY_TRIANGLES, TRIANGLE_LEN * m.triangles.len(), |out| {
             for (o, &i) in out.iter_mut().zip(m.triangles.iter().flatten()) {
                 *o = i as f64;
             }
@@ -133,18 +138,25 @@ fn declaration(
     let mut d = Declaration::new(Cadence::PerImpulse {
         substeps_per_window: n_s,
     })
-    .writes(CANOPY_TRIANGLES, 3, m.triangles.len())
-    .writes(CANOPY_POSITIONS, 3, m.canopy_nodes)
-    .writes(CANOPY_VELOCITIES, 3, m.canopy_nodes)
-    .writes(ATTACHMENT_IMPULSE, 3, m.attachments.len())
+    .writes(CANOPY_TRIANGLES, TRIANGLE_LEN as u32, m.triangles.len())
+    .writes(CANOPY_POSITIONS, VECTOR_LEN as u32, m.canopy_nodes)
+    .writes(CANOPY_VELOCITIES, VECTOR_LEN as u32, m.canopy_nodes)
+    .writes(ATTACHMENT_IMPULSE, VECTOR_LEN as u32, m.attachments.len())
     .reads_if_written(CANOPY_PRESSURE)
     .reads_if_written(ATTACHMENT_STATE)
     .monitors(monitors.iter().map(|m| m.name.clone()))
     .checkpoints()
     .restarts();
+    if m.parachute.is_some() {
+        d = d.summary(opening::SUMMARY);
+    }
     if let Some(o) = obstacles {
         d = d
-            .writes(COLLISION_IMPULSE, 6, o.momenta.len() / 6)
+            .writes(
+                COLLISION_IMPULSE,
+                MOMENTUM_LEN as u32,
+                o.momenta.len() / MOMENTUM_LEN,
+            )
             .reads(COLLISION_BODIES);
     }
     d
@@ -200,9 +212,13 @@ pub fn run<S: Stepper>(
         pressure_window: None,
         saved: None,
         window_start: WindowStart::new(scene.scenario.coupling.bodies_iterate()),
+        record: Record::default(),
     };
     p.reporting(|p| d.drive(p))?;
     drop(d.pressure.take());
+    if let Some(summary) = d.record.summary() {
+        p.summarize(summary);
+    }
     p.finish(d.substeps)?;
     Ok(())
 }
@@ -226,6 +242,8 @@ struct Driven<S> {
     saved: Option<Saved>,
     /// The attachment points at the window's start, for its next try.
     window_start: WindowStart,
+    /// The parachute's rows for the run's summary (`opening.rs`).
+    record: Record,
 }
 
 /// What structure-proc keeps in a run checkpoint (`[run]
@@ -240,6 +258,7 @@ struct RunState {
     contacts: Option<Stats>,
     outputs: [Option<Vec<(f64, String)>>; 2],
     substeps: u64,
+    record: Record,
 }
 
 /// What a window's start holds beyond the model and stepper
@@ -250,6 +269,8 @@ struct Saved {
     watch: Watch,
     collisions: Option<(u64, Vector3<f64>)>,
     contacts: Option<Stats>,
+    /// Rows of the summary's record.
+    rows: usize,
 }
 
 impl<S: Stepper> Driven<S> {
@@ -271,7 +292,9 @@ impl<S: Stepper> Driven<S> {
             match p.next_command()? {
                 Command::Initialize => {
                     publish_canopy(p, &self.m, true)?;
-                    p.done(self.monitors())?;
+                    let monitors = self.monitors();
+                    self.record.add(p.timing().start_time, &monitors);
+                    p.done(monitors)?;
                 }
                 Command::SaveCheckpoint => {
                     self.save();
@@ -307,12 +330,14 @@ impl<S: Stepper> Driven<S> {
             watch: self.watch.clone(),
             collisions: None,
             contacts: None,
+            rows: 0,
         });
         self.m.save(&mut saved.checkpoint);
         self.stepper.save_history(&mut saved.checkpoint.history);
         saved.watch.clone_from(&self.watch);
         saved.collisions = self.obstacles.as_ref().map(|o| (o.impulses, o.received));
         saved.contacts = self.contacts.as_ref().map(|c| c.stats);
+        saved.rows = self.record.rows.len();
         self.window_start.first = true;
     }
 
@@ -330,6 +355,7 @@ impl<S: Stepper> Driven<S> {
             // A line broken since the checkpoint is whole again.
             c.sync(&self.m.net);
         }
+        self.record.truncate(saved.rows);
         // The window's pressure comes again with its next try.
         self.pressure_window = None;
         self.window_start.first = true;
@@ -348,6 +374,7 @@ impl<S: Stepper> Driven<S> {
             contacts: saved.contacts,
             outputs: self.output.entries(),
             substeps: self.substeps,
+            record: self.record.clone(),
         }
     }
 
@@ -359,7 +386,9 @@ impl<S: Stepper> Driven<S> {
             watch: state.watch,
             collisions: state.collisions.map(|(n, p)| (n, p.into())),
             contacts: state.contacts,
+            rows: state.record.rows.len(),
         });
+        self.record = state.record;
         self.restore();
         self.window_start.first = false;
         self.output.resume(state.outputs)?;
@@ -373,11 +402,15 @@ impl<S: Stepper> Driven<S> {
             return Err(why.into());
         }
         let m = &self.m;
-        p.write_field(ATTACHMENT_IMPULSE, 3 * m.attachments.len(), |out| {
-            for (o, a) in out.chunks_exact_mut(3).zip(&m.attachments) {
-                o.copy_from_slice(&a.impulse);
-            }
-        })?;
+        p.write_field(
+            ATTACHMENT_IMPULSE,
+            VECTOR_LEN * m.attachments.len(),
+            |out| {
+                for (o, a) in out.chunks_exact_mut(3).zip(&m.attachments) {
+                    o.copy_from_slice(&a.impulse);
+                }
+            },
+        )?;
         if let Some(o) = &self.obstacles {
             p.write_field(COLLISION_IMPULSE, o.momenta.len(), |out| {
                 out.copy_from_slice(&o.momenta)
@@ -387,7 +420,10 @@ impl<S: Stepper> Driven<S> {
             return Ok(p.done(Vec::new())?);
         }
         publish_canopy(p, &self.m, false)?;
-        Ok(p.done(self.monitors())?)
+        let monitors = self.monitors();
+        let (start, length) = p.timing().window_span(step.window);
+        self.record.add(start + length, &monitors);
+        Ok(p.done(monitors)?)
     }
 
     /// What the step reads: the window's pressure (the fluid sends one per

@@ -18,7 +18,6 @@ pub mod designer;
 pub mod divergence;
 pub mod dome;
 pub mod driver;
-pub mod fields;
 pub mod forces;
 #[cfg(feature = "gpu")]
 pub mod gpu;
@@ -26,6 +25,7 @@ pub mod integrators;
 pub mod lines;
 pub mod model;
 pub mod network;
+pub mod opening;
 pub mod output;
 pub mod parachute;
 pub mod rectangle;

@@ -8,6 +8,7 @@ use crate::integrators::{Integrator, StepError};
 use crate::lines::Line;
 pub use crate::network::{Network, NodeKind, Spring};
 use crate::system::System;
+use exchange::fields::ATTACHMENT_STATE_LEN;
 
 /// An attachment point on a rigid body, prescribed over one impulse sub-step as
 /// x(τ) = x0 + v0·τ, and the impulse the structure gives back.
@@ -131,7 +132,11 @@ impl Model {
     /// Set the attachment points at the start of an impulse sub-step
     /// (`state`: position then velocity, 6 per attachment) and clear the impulses.
     pub fn set_attachments(&mut self, state: &[f64]) {
-        for (a, s) in self.attachments.iter_mut().zip(state.chunks_exact(6)) {
+        for (a, s) in self
+            .attachments
+            .iter_mut()
+            .zip(state.chunks_exact(ATTACHMENT_STATE_LEN))
+        {
             a.x0 = [s[0], s[1], s[2]];
             a.v0 = [s[3], s[4], s[5]];
             a.tau = 0.0;
@@ -144,7 +149,9 @@ impl Model {
     /// chord from their positions in `start` to those in `end` (both
     /// position then velocity, 6 per attachment), and clear the impulses.
     pub fn set_attachments_along(&mut self, start: &[f64], end: &[f64], dt: f64) {
-        let points = start.chunks_exact(6).zip(end.chunks_exact(6));
+        let points = start
+            .chunks_exact(ATTACHMENT_STATE_LEN)
+            .zip(end.chunks_exact(ATTACHMENT_STATE_LEN));
         for (a, (s, e)) in self.attachments.iter_mut().zip(points) {
             a.x0 = [s[0], s[1], s[2]];
             a.v0 = [0, 1, 2].map(|c| (e[c] - s[c]) / dt);

@@ -4,11 +4,11 @@
 //! would pass through a thin body in one step; a node found inside a meshed
 //! body leaves through the nearest face.
 
+use exchange::fields::STATE_LEN;
 use nalgebra::Vector3;
-use rigid_proc::body::STATE_LEN;
+use rigid_section::RigidSection;
 use structure_proc::collision::Obstacles;
 use structure_section::Collision;
-use structure_section::RigidSection;
 
 fn obstacles(scene: &str, thickness: f64, restitution: f64) -> Obstacles {
     let section: RigidSection = toml::from_str(scene).unwrap();

@@ -309,7 +309,7 @@ fn drop_cloth(rigid: &str, surfaces: bool) -> Drop {
         membrane = { young_modulus = 1.0e6, poisson_ratio = 0.3, thickness = 2.0e-4 }
         "#,
     );
-    let rigid: structure_section::RigidSection = toml::from_str(rigid).unwrap();
+    let rigid: rigid_section::RigidSection = toml::from_str(rigid).unwrap();
     let spec = s.collision.unwrap();
     let dt = 5e-5;
     let mut m = structure_proc::build_model(&s, None, dt).unwrap();
@@ -320,7 +320,7 @@ fn drop_cloth(rigid: &str, surfaces: bool) -> Drop {
         .unwrap();
     let mut nodes = structure_proc::collision::Obstacles::new(&rigid, &spec).unwrap();
     let surface = Surface::of(&m.net);
-    let body = rigid_proc::body::Body::from_spec(&rigid.bodies[0]).unwrap();
+    let body = rigid.bodies[0].body().unwrap();
     let shape = body.shape.clone().unwrap();
     let pose = body.shape_pose();
     let mut drop = Drop {

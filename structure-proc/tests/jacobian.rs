@@ -27,7 +27,7 @@ fn noise(seed: &mut u64) -> f64 {
 /// is stretched or slack and every damper and porous triangle acts.
 fn jiggled(
     section: &StructureSection,
-    rigid: Option<&structure_section::RigidSection>,
+    rigid: Option<&rigid_section::RigidSection>,
     jiggle: f64,
 ) -> Model {
     let mut m = build_model(section, rigid, 1e-3).expect("builds");

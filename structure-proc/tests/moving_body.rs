@@ -4,7 +4,7 @@
 //! between two columns of its nodes lifts the cloth by its edges and faces,
 //! and the momentum the cloth gains the rod loses.
 
-use rigid_proc::body::STATE_LEN;
+use exchange::fields::STATE_LEN;
 use structure_proc::collision::{triangles_through, Contacts, Obstacles};
 use structure_proc::forces::Loads;
 
@@ -48,7 +48,7 @@ fn lift(surfaces: bool) -> Lift {
         "#,
     )
     .unwrap();
-    let rigid: structure_section::RigidSection = toml::from_str(
+    let rigid: rigid_section::RigidSection = toml::from_str(
         r#"
         [[bodies]]
         name = "rod"

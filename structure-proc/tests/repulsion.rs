@@ -186,7 +186,7 @@ fn a_static_ball_stops_a_node_along_its_true_normal() {
     // the node keeps no sliding velocity (a frictionless ball). Stopped
     // along the facet's normal (3.6° off the radius there), it slid on at
     // 0.12 m/s, 6 % of its speed.
-    let rigid: structure_section::RigidSection = toml::from_str(
+    let rigid: rigid_section::RigidSection = toml::from_str(
         r#"
         [[bodies]]
         name = "ball"

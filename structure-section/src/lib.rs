@@ -1,16 +1,14 @@
 //! `[structure]`: the spring-mass canopy and strings (thesis §2.1, §3.2).
 
 pub use collision::Collision;
-pub use fluid_section::PorousLoad;
+use fluid_section::PorousLoad;
 pub use integrator::{
     AdaptiveParams, HhtParams, Integrator, LinearSolver, NewmarkParams, NewtonParams, Scheme,
 };
 pub use parachute::{
     Cloth, ClothHold, ClothPlane, LineBreak, LineChange, Parachute, ParachuteModel,
 };
-pub use rigid_section::{
-    attachments, default_gravity, AttachmentSpec, BodySpec, Motion, RigidSection, STANDARD_GRAVITY,
-};
+use rigid_section::{default_gravity, AttachmentSpec, RigidSection};
 use scenario::Checker;
 use serde::{Deserialize, Serialize};
 

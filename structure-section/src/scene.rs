@@ -73,5 +73,3 @@ impl Scene {
         self.scenario.check_one_process(c, "structure", program);
     }
 }
-
-scenario::reads_through!(Scene);

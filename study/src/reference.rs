@@ -4,10 +4,10 @@
 //! §2.5.1, and the spring pendulum of thesis §2.5.2.
 
 use crate::elliptic::{complete_k, sn_cn_dn};
+use rigid_section::STANDARD_GRAVITY;
 use structure_proc::forces::{elastic_energy, Dynamics, Loads};
 use structure_proc::network::Network;
 use structure_proc::{Model, NodeKind, Spring, System};
-use structure_section::STANDARD_GRAVITY;
 
 /// A system, its initial state and its exact solution.
 pub trait Reference: Sync {

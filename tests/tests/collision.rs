@@ -6,7 +6,7 @@
 
 use canopy_tests::*;
 use participant::vtu;
-use structure_section::STANDARD_GRAVITY;
+use rigid_section::STANDARD_GRAVITY;
 
 fn last(m: &Monitors, name: &str) -> f64 {
     *m.column(name).last().unwrap()

@@ -7,7 +7,7 @@
 
 use super::monitors::{Monitors, MonitorsError};
 use super::progress::Progress;
-use participant::supervisor::{Report, Setup, Stats, SuperviseError, Supervisor};
+use participant::supervisor::{Report, Setup, Stats, Summary, SuperviseError, Supervisor};
 use participant::Timing;
 use scenario::Scenario;
 use std::path::Path;
@@ -31,6 +31,9 @@ const WATCH_GRACE: Duration = Duration::from_secs(2);
 pub struct Outcome {
     /// Each participant's name and statistics, in the scenario's order.
     pub stats: Vec<(String, Stats)>,
+    /// What participants said of the run ([`Summary`]), in the order they
+    /// finished.
+    pub summaries: Vec<Summary>,
     pub windows: u64,
     pub coupler_send_s: f64,
     /// Wall time from the start signal to the last participant's statistics.
@@ -91,10 +94,11 @@ pub fn run(
         shared: &shared,
         monitors,
         stats: vec![None; names.len()],
+        summaries: Vec::new(),
         checkpoints: Vec::new(),
     };
     let watched = watch.run(sup, progress, &timing);
-    let (mut monitors, stats) = (watch.monitors, watch.stats);
+    let (mut monitors, stats, summaries) = (watch.monitors, watch.stats, watch.summaries);
     if let Err(e) = watched {
         // The others' last rows are on their way (a participant that waits
         // long sends its rows): the file keeps them.
@@ -110,6 +114,7 @@ pub fn run(
             .cloned()
             .zip(stats.into_iter().flatten())
             .collect(),
+        summaries,
         windows: timing.windows(),
         coupler_send_s: sup.send_s,
         run_s: started.elapsed().as_secs_f64(),
@@ -125,6 +130,7 @@ struct Watch<'a> {
     shared: &'a Shared<'a>,
     monitors: Monitors,
     stats: Vec<Option<Stats>>,
+    summaries: Vec<Summary>,
     /// Participants writing a run checkpoint, each with the rows it waits
     /// to see kept in the file.
     checkpoints: Vec<(usize, u64)>,
@@ -187,6 +193,7 @@ impl Watch<'_> {
             Report::Checkpoint { rows } => self.checkpoints.push((p, rows)),
             // Heard: the participant works through a long window.
             Report::Tried { .. } => {}
+            Report::Summary(s) => self.summaries.push(s),
             Report::Finished(s) => {
                 self.stats[p] = Some(s);
                 if let Ok(mut f) = self.shared.finished.lock() {

@@ -143,6 +143,34 @@ fn processes_json(children: &[Child], outcome: Option<&coupling::Outcome>) -> se
 /// so rather than keep saying it runs).
 const RESERVED: usize = 32 << 10;
 
+/// A participant's summary of its run under the key it declared: its
+/// values by name, NaN as null. A key the manifest has already (its own,
+/// or another participant's) is not overwritten: a warning says so.
+pub(super) fn add_summary(manifest: &mut serde_json::Value, s: &participant::Summary) {
+    if manifest.get(&s.name).is_some_and(|v| !v.is_null()) {
+        eprintln!(
+            "warning: the manifest already has `{}`: a summary of that name is left out",
+            s.name
+        );
+        return;
+    }
+    let values: serde_json::Map<String, serde_json::Value> = s
+        .values
+        .iter()
+        .map(|(k, v)| {
+            (
+                k.clone(),
+                if v.is_finite() {
+                    json!(v)
+                } else {
+                    serde_json::Value::Null
+                },
+            )
+        })
+        .collect();
+    manifest[&s.name] = serde_json::Value::Object(values);
+}
+
 /// Write the manifest of a run that starts: aside and renamed, and padded
 /// to [`RESERVED`] bytes.
 pub(super) fn write_early(path: &Path, manifest: &serde_json::Value) -> std::io::Result<()> {

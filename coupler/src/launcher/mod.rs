@@ -8,7 +8,6 @@ pub mod coupling;
 pub mod iterations;
 pub mod manifest;
 pub mod monitors;
-pub mod opening;
 pub mod programs;
 pub mod progress;
 pub mod report;

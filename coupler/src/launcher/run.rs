@@ -114,15 +114,20 @@ pub(super) fn launch(
     let mut manifest = manifest(checked, run_id, &end, &children, status, started);
     manifest["implicit"] = iterations.map_or(serde_json::Value::Null, |i| i.summary());
     manifest["resumed_after_window"] = json!(resume);
-    let opening = super::opening::Opening::read(&run_dir.join("monitors.csv"));
-    manifest["parachute"] = opening.map_or(serde_json::Value::Null, |o| o.to_json());
+    let summaries = match &end {
+        End::Completed(outcome) => outcome.summaries.as_slice(),
+        _ => &[],
+    };
+    for s in summaries {
+        super::manifest::add_summary(&mut manifest, s);
+    }
     manifest[SCENARIO_FILE] = json!(scenario_file);
     if let Err(e) = super::manifest::write_final(&run_dir.join("manifest.json"), &manifest) {
         eprintln!("warning: {e}");
     }
     tell(&end, &children, run_dir, started, scenario_path);
-    if let Some(o) = opening {
-        eprintln!("{}", o.describe());
+    for s in summaries {
+        eprintln!("{}", s.line);
     }
     let names: Vec<String> = checked.programs.iter().map(|(n, _)| n.clone()).collect();
     let stopped = matches!(end, End::Failed(..) | End::Interrupted);

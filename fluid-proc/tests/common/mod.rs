@@ -7,37 +7,40 @@ use fluid_proc::comm::Single;
 use fluid_proc::compressible::Compressible;
 use fluid_proc::gas::Primitive;
 use fluid_proc::setup::gas_scene;
-use fluid_section::Scene as Scenario;
+use fluid_section::Scene;
 use std::sync::Arc;
 
 /// One quantity of a cell's gas.
 pub type Field = fn(&Primitive) -> f64;
 
-/// The shipped scenario `scenarios/{name}.toml`.
-pub fn shipped(name: &str) -> Scenario {
+/// The shipped scene `scenarios/{name}.toml`.
+pub fn shipped(name: &str) -> Scene {
     let path = format!("{}/../scenarios/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    Scenario::load_file(std::path::Path::new(&path)).expect("shipped scenario")
+    Scene::load_file(std::path::Path::new(&path)).expect("shipped scene")
 }
 
 /// The scene's gas, with the bodies of its `[rigid]` section in it at
 /// their initial poses, moving on at their initial velocities.
-pub fn start(scenario: &Scenario) -> Compressible {
-    gas_scene(scenario, Arc::new(Single))
+pub fn start(scene: &Scene) -> Compressible {
+    gas_scene(scene, Arc::new(Single))
         .expect("an euler scene")
         .gas
 }
 
 /// The scene's gas run for `duration` from its initial state (its bodies
 /// moving on at their initial velocities).
-pub fn run_to(scenario: &Scenario, duration: f64) -> Compressible {
-    let mut gas = start(scenario);
+pub fn run_to(scene: &Scene, duration: f64) -> Compressible {
+    let mut gas = start(scene);
     gas.advance(duration).expect("the run stays physical");
     gas
 }
 
 /// The scene's gas run from its start to its end time.
-pub fn run_to_end(scenario: &Scenario) -> Compressible {
-    run_to(scenario, scenario.run.end_time - scenario.run.start_time)
+pub fn run_to_end(scene: &Scene) -> Compressible {
+    run_to(
+        scene,
+        scene.scenario.run.end_time - scene.scenario.run.start_time,
+    )
 }
 
 /// The shock a piston moving at `up` drives into gas at rest at `rho1`,

@@ -18,13 +18,14 @@
 //! received goes back to the rigid solver, which applies it at the start of
 //! the same sub-step, so linear momentum is exchanged exactly.
 
+use exchange::body::{self, Body};
+use exchange::fields::{MOMENTUM_LEN, STATE_LEN};
+use exchange::Motion;
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query::{PointProjection, Ray};
 use parry3d_f64::shape::SharedShape;
-use rigid_proc::body::{Body, MOMENTUM_LEN, STATE_LEN};
+use rigid_section::RigidSection;
 use structure_section::Collision;
-use structure_section::Motion;
-use structure_section::RigidSection;
 
 /// The bodies the structure's free nodes collide with.
 pub struct Obstacles {
@@ -58,11 +59,7 @@ struct Hit {
 
 impl Obstacles {
     pub fn new(rigid: &RigidSection, spec: &Collision) -> Result<Obstacles, String> {
-        let bodies = rigid
-            .bodies
-            .iter()
-            .map(|b| Body::from_spec(b).map_err(|e| format!("body `{}`: {e}", b.name)))
-            .collect::<Result<Vec<Body>, String>>()?;
+        let bodies = rigid.bodies()?;
         let mut o = Obstacles {
             momenta: vec![0.0; MOMENTUM_LEN * bodies.len()],
             motions: bodies.iter().map(|b| b.motion).collect(),
@@ -97,7 +94,7 @@ impl Obstacles {
     /// Each body's motion at `time`, as rigid-proc moves it: a held body
     /// has no inverse mass until its release.
     fn hold(&mut self, time: f64) {
-        rigid_proc::body::hold(&mut self.bodies, &self.motions, time);
+        body::hold(&mut self.bodies, &self.motions, time);
     }
 
     /// Give body `b` the linear momentum `lin` and the angular momentum
@@ -342,7 +339,7 @@ pub fn surfaces(
         if spec.shape.is_none() || (spec.motion != Motion::Static && !moving) {
             continue;
         }
-        let body = Body::from_spec(spec).map_err(|e| format!("body `{}`: {e}", spec.name))?;
+        let body = spec.body()?;
         let Some(shape) = &body.shape else { continue };
         let (own, tris) = shape.surface_with(SURFACE_SEGMENTS);
         let base = first + out.points.len() / 3;

@@ -9,7 +9,7 @@
 use super::bodies::Carried;
 use super::geometry::{Stencil, V3};
 use super::Contacts;
-use rigid_proc::body::Body;
+use exchange::Body;
 
 impl Contacts {
     /// Put the moving bodies' surfaces where `bodies` (every `[rigid]` body,

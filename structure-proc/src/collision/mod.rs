@@ -196,7 +196,7 @@ impl Contacts {
     pub fn with_bodies(
         net: &Network,
         spec: &Collision,
-        rigid: Option<&structure_section::RigidSection>,
+        rigid: Option<&rigid_section::RigidSection>,
     ) -> Result<Option<Contacts>, String> {
         if !spec.self_contact {
             return Ok(None);

@@ -1,16 +1,16 @@
 //! Mass properties from geometry (dissertation eqs. 2.5–2.7) against the
 //! textbook formulas for a uniform solid.
 
+use exchange::mass::MassProperties;
+use exchange::Shape;
 use nalgebra::Vector3;
 use parry3d_f64::shape::Ball;
-use rigid_proc::mass::MassProperties;
-use rigid_proc::shape::Shape;
 use rigid_section::mesh::TriangleMesh;
 use rigid_section::ShapeSpec;
 use std::f64::consts::PI;
 
 fn of(spec: ShapeSpec, density: f64) -> MassProperties {
-    MassProperties::of_shape(&Shape::from_spec(&spec).unwrap(), density)
+    MassProperties::of_shape(&spec.shape().unwrap(), density)
 }
 
 fn close(a: Vector3<f64>, b: Vector3<f64>, tol: f64) -> bool {
@@ -75,7 +75,8 @@ fn a_meshed_sphere_approaches_the_sphere_at_second_order() {
             vertices: points.iter().map(|p| [p.x, p.y, p.z]).collect(),
             triangles,
         };
-        let p = MassProperties::of_shape(&Shape::from_mesh(&mesh).unwrap(), rho);
+        let p =
+            MassProperties::of_shape(&Shape::mesh(&mesh.vertices, &mesh.triangles).unwrap(), rho);
         let dm = (p.mass / exact.mass - 1.0).abs();
         let di = (p.principal - exact.principal).norm() / exact.principal.norm();
         assert!(p.centre.norm() < 1e-12 * r, "centre {}", p.centre);

@@ -4,8 +4,6 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::shape::{SharedShape, TriMeshFlags};
-use rigid_section::mesh::TriangleMesh;
-use rigid_section::ShapeSpec;
 use std::f64::consts::FRAC_PI_2;
 
 /// Segments around a sphere or cylinder when it is drawn.
@@ -20,45 +18,52 @@ pub struct Shape {
 }
 
 impl Shape {
-    /// The shape a scenario describes; a mesh is read from its (absolute) file.
-    pub fn from_spec(spec: &ShapeSpec) -> Result<Shape, String> {
-        let at_origin = |shape| Shape {
-            shape,
-            placement: Isometry3::identity(),
-        };
-        Ok(match spec {
-            ShapeSpec::Sphere { radius } => at_origin(SharedShape::ball(*radius)),
-            ShapeSpec::Cuboid { size } => at_origin(SharedShape::cuboid(
-                size[0] / 2.0,
-                size[1] / 2.0,
-                size[2] / 2.0,
-            )),
-            ShapeSpec::Cylinder { radius, height } => Shape {
-                shape: SharedShape::cylinder(height / 2.0, *radius),
-                // A quarter turn about x takes parry's y axis to our z axis.
-                placement: Isometry3::rotation(Vector3::x() * FRAC_PI_2),
-            },
-            ShapeSpec::Mesh { file } => {
-                let mesh = TriangleMesh::read_obj(file).map_err(|e| e.to_string())?;
-                Shape::from_mesh(&mesh)?
-            }
-        })
+    /// A sphere of `radius` [m] about the own frame's origin.
+    pub fn sphere(radius: f64) -> Shape {
+        Shape::at_origin(SharedShape::ball(radius))
     }
 
-    pub fn from_mesh(mesh: &TriangleMesh) -> Result<Shape, String> {
-        let vertices = mesh.vertices.iter().map(|v| Point3::from(*v)).collect();
-        // The reader has checked the mesh closed and outward: ORIENTED lets
-        // point queries tell inside from outside by pseudo-normals.
-        let shape = SharedShape::trimesh_with_flags(
-            vertices,
-            mesh.triangles.clone(),
-            TriMeshFlags::ORIENTED,
-        )
-        .map_err(|e| format!("parry refused the mesh: {e:?}"))?;
-        Ok(Shape {
+    /// A box of edge lengths `size` along the own x, y and z axes [m],
+    /// centred on the origin.
+    pub fn cuboid(size: [f64; 3]) -> Shape {
+        Shape::at_origin(SharedShape::cuboid(
+            size[0] / 2.0,
+            size[1] / 2.0,
+            size[2] / 2.0,
+        ))
+    }
+
+    /// A cylinder of `radius` and `height` [m] along the own z axis,
+    /// centred on the origin.
+    pub fn cylinder(radius: f64, height: f64) -> Shape {
+        Shape {
+            shape: SharedShape::cylinder(height / 2.0, radius),
+            // A quarter turn about x takes parry's y axis to our z axis.
+            placement: Isometry3::rotation(Vector3::x() * FRAC_PI_2),
+        }
+    }
+
+    /// A closed triangle mesh, outward-wound (its reader has checked it
+    /// closed and outward), in the own frame [m].
+    pub fn mesh(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Shape, String> {
+        let vertices = vertices.iter().map(|v| Point3::from(*v)).collect();
+        // ORIENTED lets point queries tell inside from outside by pseudo-normals.
+        let shape =
+            SharedShape::trimesh_with_flags(vertices, triangles.to_vec(), TriMeshFlags::ORIENTED)
+                .map_err(|e| format!("parry refused the mesh: {e:?}"))?;
+        Ok(Shape::at_origin(shape))
+    }
+
+    fn at_origin(shape: SharedShape) -> Shape {
+        Shape {
             shape,
             placement: Isometry3::identity(),
-        })
+        }
+    }
+
+    /// The enclosed volume [m³].
+    pub fn volume(&self) -> f64 {
+        self.shape.mass_properties(1.0).mass()
     }
 
     /// Radius of a sphere about the own frame's origin that holds the shape [m].

@@ -3,16 +3,11 @@
 //! principal axes (dissertation §2.1, §3.1.1).
 
 use crate::euler_parameters::{self as ep, EulerParameters};
+use crate::fields::STATE_LEN;
 use crate::mass::MassProperties;
 use crate::shape::Shape;
+use crate::Motion;
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
-use rigid_section::{BodySpec, Motion};
-
-/// Values per body in the exchanged state (see [`Body::write_state`]).
-pub const STATE_LEN: usize = 13;
-/// Values per body in an exchanged momentum change: linear, then angular
-/// impulse about the centre (see [`Body::apply_momentum`]).
-pub const MOMENTUM_LEN: usize = 6;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct State {
@@ -24,6 +19,30 @@ pub struct State {
     pub e: EulerParameters,
     /// Angular velocity [rad/s] in principal body axes (eq. 2.12).
     pub w: Vector3<f64>,
+}
+
+/// How a body starts: what a scenario's `[[rigid.bodies]]` entry says of it
+/// (rigid-section's `BodySpec::body` fills it).
+#[derive(Debug, Clone)]
+pub struct Start {
+    pub name: String,
+    pub motion: Motion,
+    /// Density of a shaped body [kg/m³].
+    pub density: f64,
+    /// Mass of a body without a shape [kg].
+    pub point_mass: f64,
+    /// Where the own frame's origin starts [m].
+    pub position: Vector3<f64>,
+    /// Own axes → world axes at the start.
+    pub rotation: Rotation3<f64>,
+    /// [m/s]
+    pub velocity: Vector3<f64>,
+    /// World axes [rad/s].
+    pub angular_velocity: Vector3<f64>,
+    /// Linear viscous drag b [N·s/m].
+    pub damping: f64,
+    /// Held (moving as a prescribed body) until this time [s].
+    pub release_time: Option<f64>,
 }
 
 #[derive(Clone)]
@@ -40,37 +59,35 @@ pub struct Body {
 }
 
 impl Body {
-    /// The body a scenario describes (mesh paths already absolute).
-    pub fn from_spec(spec: &BodySpec) -> Result<Body, String> {
-        let shape = spec.shape.as_ref().map(Shape::from_spec).transpose()?;
+    /// A body as it `start`s, of `shape` (a mass point without one): a
+    /// shaped body's mass properties are its shape's at its density
+    /// (dissertation eqs. 2.5–2.7).
+    pub fn new(start: Start, shape: Option<Shape>) -> Body {
         let mass = match &shape {
-            Some(s) => {
-                let unit = MassProperties::of_shape(s, 1.0);
-                MassProperties::of_shape(s, spec.density_of(unit.mass))
-            }
-            None => MassProperties::point(spec.mass.unwrap_or(0.0)),
+            Some(s) => MassProperties::of_shape(s, start.density),
+            None => MassProperties::point(start.point_mass),
         };
         // World ← own frame is the scenario's rotation R₀; world ← principal
         // is then R₀·Q, so A = (R₀Q)ᵀ.
-        let r0 = spec.rotation();
+        let r0 = start.rotation;
         let principal_to_world = Rotation3::from_matrix(&(r0.matrix() * mass.axes));
-        let x = Vector3::from(spec.position) + r0 * mass.centre;
+        let x = start.position + r0 * mass.centre;
         let e = ep::from_rotation(&principal_to_world);
-        let w = ep::attitude(&e) * Vector3::from(spec.angular_velocity);
-        Ok(Body {
-            name: spec.name.clone(),
-            motion: spec.motion,
+        let w = ep::attitude(&e) * start.angular_velocity;
+        Body {
+            name: start.name,
+            motion: start.motion,
             mass,
             shape,
-            damping: spec.linear_damping,
-            release_time: spec.release_time,
+            damping: start.damping,
+            release_time: start.release_time,
             state: State {
                 x,
-                v: Vector3::from(spec.velocity),
+                v: start.velocity,
                 e,
                 w,
             },
-        })
+        }
     }
 
     /// The body's motion over a step from `time` [s]: a dynamic body held
@@ -215,13 +232,13 @@ impl Body {
     }
 }
 
-/// Takes the states rigid-proc sent ([`STATE_LEN`] per body, as
+/// Takes the states the rigid bodies sent ([`STATE_LEN`] per body, as
 /// [`Body::write_state`] writes them) into `bodies`; an error if their
 /// number does not match.
 pub fn read_states(bodies: &mut [Body], states: &[f64]) -> Result<(), String> {
     if states.len() != STATE_LEN * bodies.len() {
         return Err(format!(
-            "rigid-proc sent {} values for {} bodies",
+            "the rigid bodies sent {} values for {} bodies",
             states.len(),
             bodies.len()
         ));

@@ -1,7 +1,7 @@
-//! A parachute's opening and steady descent, summed up from the designer's
-//! monitors of `monitors.csv` (`structure.parachute.*`, structure-proc's
-//! `designer.rs`) at the end of a run: into `manifest.json` (`parachute`)
-//! and one line on stderr.
+//! A parachute's opening and steady descent, summed up at the end of a
+//! run from the designer's monitors (`designer.rs`) at the start and at
+//! every window end: into `manifest.json` (`parachute`) and one line on the
+//! coupler's stderr, through the participant library's summary.
 //!
 //! The steady descent is the run's last `STEADY` seconds: mean descent
 //! speed, its spread (largest less smallest over the mean), mean drag
@@ -12,14 +12,56 @@
 //! opening force is the largest pull of the lines on the payload before
 //! the steady part.
 
-use serde_json::{json, Value};
-use std::path::Path;
+use participant::{Monitor, Summary};
+
+/// The manifest key of the summary.
+pub const SUMMARY: &str = "parachute";
+
+/// The designer's monitors a row holds, after its time.
+const COLUMNS: [&str; 4] = [
+    "parachute.descent_speed",
+    "parachute.drag_coefficient",
+    "parachute.projected_diameter",
+    "parachute.payload_force",
+];
+
+/// The rows the summary is taken from: (time, descent speed, C_D0, D_p,
+/// payload force) at the start and at each window end. A window taken
+/// again drops its rows with the checkpoint it restarts from
+/// ([`Record::truncate`]); a run checkpoint keeps them all.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Record {
+    pub rows: Vec<[f64; 5]>,
+}
+
+impl Record {
+    /// Adds the row of `time` [s] from the designer's `monitors`; none for
+    /// a model without them. Without a fluid, C_D0 reads NaN.
+    pub fn add(&mut self, time: f64, monitors: &[Monitor]) {
+        let value = |name: &str| monitors.iter().find(|m| m.name == name).map(|m| m.value);
+        let Some(speed) = value(COLUMNS[0]) else {
+            return;
+        };
+        let [_, cd, diameter, force] = COLUMNS.map(|c| value(c).unwrap_or(f64::NAN));
+        self.rows.push([time, speed, cd, diameter, force]);
+    }
+
+    /// Back to its first `rows` rows.
+    pub fn truncate(&mut self, rows: usize) {
+        self.rows.truncate(rows);
+    }
+
+    /// The run's summary; None without a parachute's monitors or with
+    /// fewer than two rows in its steady part.
+    pub fn summary(&self) -> Option<Summary> {
+        let o = Opening::of(&self.rows)?;
+        Some(Summary::new(SUMMARY, o.values(), o.describe()))
+    }
+}
 
 /// Seconds at the run's end taken as its steady descent (the issue's
 /// "last 2 s"), or the run's last half when it is shorter than twice that.
 pub const STEADY: f64 = 2.0;
-
-const PREFIX: &str = "structure.parachute.";
 
 /// What a run's parachute did.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,33 +79,6 @@ pub struct Opening {
 }
 
 impl Opening {
-    /// From `monitors.csv`; None for a run without a parachute's monitors
-    /// or with fewer than two rows in its steady part.
-    pub fn read(csv: &Path) -> Option<Opening> {
-        let text = std::fs::read_to_string(csv).ok()?;
-        let mut lines = text.lines();
-        let header: Vec<&str> = lines.next()?.split(',').collect();
-        let at = |name: &str| header.iter().position(|h| *h == format!("{PREFIX}{name}"));
-        // Without a fluid process there is no drag: its column reads NaN.
-        let columns = [
-            0,
-            at("descent_speed")?,
-            at("drag_coefficient").unwrap_or(usize::MAX),
-            at("projected_diameter")?,
-            at("payload_force")?,
-        ];
-        let rows: Vec<[f64; 5]> = lines
-            .map(|l| {
-                l.split(',')
-                    .map(|v| v.parse().unwrap_or(f64::NAN))
-                    .collect::<Vec<f64>>()
-            })
-            .filter(|r| r.len() == header.len())
-            .map(|r| columns.map(|c| r.get(c).copied().unwrap_or(f64::NAN)))
-            .collect();
-        Opening::of(&rows)
-    }
-
     /// From rows of (time, descent speed, C_D0, D_p, payload force).
     fn of(rows: &[[f64; 5]]) -> Option<Opening> {
         let end = rows.last()?[0];
@@ -92,16 +107,20 @@ impl Opening {
         })
     }
 
-    pub fn to_json(&self) -> Value {
-        json!({
-            "steady_from": self.steady_from,
-            "descent_speed": self.descent_speed,
-            "descent_speed_spread": self.speed_spread,
-            "drag_coefficient": self.drag_coefficient,
-            "projected_diameter": self.projected_diameter,
-            "opening_time": self.opening_time,
-            "peak_opening_force": self.peak_opening_force,
-        })
+    /// The values by name, as the manifest holds them: [s], [m/s], [1],
+    /// [1], [m], [s] (NaN: not reached), [N].
+    fn values(&self) -> Vec<(String, f64)> {
+        [
+            ("steady_from", self.steady_from),
+            ("descent_speed", self.descent_speed),
+            ("descent_speed_spread", self.speed_spread),
+            ("drag_coefficient", self.drag_coefficient),
+            ("projected_diameter", self.projected_diameter),
+            ("opening_time", self.opening_time.unwrap_or(f64::NAN)),
+            ("peak_opening_force", self.peak_opening_force),
+        ]
+        .map(|(k, v)| (k.to_string(), v))
+        .to_vec()
     }
 
     /// One line for a person.
@@ -173,5 +192,48 @@ mod tests {
         assert!((o.steady_from - 3.0).abs() < 1e-12);
         assert!((o.projected_diameter - 6.0).abs() < 1e-12);
         assert!(o.speed_spread < 0.06 / 6.0 + 1e-12 && o.speed_spread > 0.0);
+    }
+
+    /// A window taken again leaves no row of its discarded try: the record
+    /// cut back to the checkpoint's length and the try's row added anew
+    /// gives the rows of a run that took the window once; a model without
+    /// the designer's monitors adds none.
+    #[test]
+    fn a_window_taken_again_leaves_no_row_of_its_first_try() {
+        let row = |speed: f64| {
+            [
+                Monitor::new("parachute.descent_speed", speed),
+                Monitor::new("parachute.projected_diameter", 6.0),
+                Monitor::new("parachute.payload_force", 900.0),
+            ]
+        };
+        let mut once = Record::default();
+        let mut again = Record::default();
+        for r in [&mut once, &mut again] {
+            r.add(0.0, &row(0.0));
+            r.add(1.0, &row(5.0));
+        }
+        let saved = again.rows.len();
+        again.add(2.0, &row(99.0));
+        again.truncate(saved);
+        for r in [&mut once, &mut again] {
+            r.add(2.0, &row(6.0));
+        }
+        let bits = |r: &Record| {
+            r.rows
+                .iter()
+                .flatten()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&again), bits(&once));
+        // No fluid: C_D0 is NaN, and the summary says so (null in the manifest).
+        assert!(once.rows[2][2].is_nan());
+        let summary = once.summary().expect("two rows in the steady part");
+        let cd = summary.values.iter().find(|(k, _)| k == "drag_coefficient");
+        assert!(cd.is_some_and(|(_, v)| v.is_nan()), "{summary:?}");
+        assert!(summary.line.contains("no C_D0"), "{}", summary.line);
+        once.add(3.0, &[Monitor::new("kinetic_energy", 1.0)]);
+        assert_eq!(once.rows.len(), 3);
     }
 }
