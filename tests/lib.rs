@@ -51,7 +51,7 @@ fn cargo_build(args: &[&str]) {
 static MPI_FLUID_PROC: OnceLock<Result<PathBuf, String>> = OnceLock::new();
 
 /// Build every executable of the workspace once (release), so tests launch
-/// what the README launches; first, where `mpirun` runs, fluid-proc with
+/// what the README's command launches; first, where `mpirun` runs, fluid-proc with
 /// its `mpi` feature. That one is built in the workspace's own target
 /// directory, where only fluid-proc and the MPI crates compile again (a
 /// target directory of its own compiled every dependency a second time),

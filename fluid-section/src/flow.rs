@@ -45,7 +45,7 @@ pub fn body_halo_cells(h: [f64; 3], active: [bool; 3], axis: usize) -> u32 {
 }
 
 /// `[fluid.box]`: a uniform grid of cells over an axis-aligned box.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FlowBox {
     /// Lowest corner [m].
@@ -92,7 +92,7 @@ impl FlowBox {
 }
 
 /// What one side does to the flow.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum SideSpec {
     /// A no-slip wall at rest.
@@ -127,7 +127,7 @@ impl SideSpec {
 
 /// `[fluid.sides]`: one entry per side. A side left out is a wall, or
 /// periodic on an axis one cell thick (the z of a 2-D flow).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FlowSides {
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -274,7 +274,7 @@ fn net_inflow(sides: &[[SideSpec; 2]; 3], b: &FlowBox) -> (f64, f64) {
 
 /// `[[fluid.probes]]`: a named point whose pressure and velocity the flow
 /// reports as monitors (`probe_<name>_pressure`, `probe_<name>_velocity_x`…).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Probe {
     pub name: String,

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 pub const FOLLOW_CANOPY: &str = "canopy";
 
 /// `[fluid.frame]`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FrameSpec {
     /// `"canopy"` (the mean velocity of the canopy's vertices) or the name

@@ -24,7 +24,7 @@ pub const MAX_CFL: f64 = 1.0;
 /// One `[[fluid.regions]]` entry: the gas in the cells whose centres lie
 /// in [lower, upper). A later region overrides an earlier one; the first
 /// must cover the whole box.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GasRegion {
     /// Lowest corner [m]; the box's when left out.
@@ -47,7 +47,7 @@ pub struct GasRegion {
 
 /// The gas a `state` side holds beyond the box: `x_low = { state =
 /// { density = 5.4, velocity = [2.2222, 0.0, 0.0], pressure = 10.3333 } }`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GasState {
     /// Density ρ [kg/m³].
@@ -59,7 +59,7 @@ pub struct GasState {
 }
 
 /// ρ(x) = density + amplitude·sin(k·x), as in Shu & Osher's problem.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DensityWave {
     /// Amplitude [kg/m³], below the region's density so ρ stays positive.

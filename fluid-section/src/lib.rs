@@ -60,7 +60,9 @@ const MODEL_KEYS: [(FluidModel, &[&str], &[&str]); 3] = [
     ),
 ];
 
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum FluidModel {
     /// Uniform free stream through a porous canopy, no flow field (thesis §2.1).
@@ -87,7 +89,7 @@ impl FluidModel {
 /// cannot be combined with `deny_unknown_fields`, and loses the line of a
 /// mistyped value. [`FluidSection::porous_load`] is the one bridge. Which
 /// keys a model needs is checked here, after parsing.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FluidSection {
     #[serde(default)]

@@ -21,7 +21,7 @@ fn air_viscosity() -> f64 {
 /// fabric, thesis eqs. (6)–(10). `[fluid]` gives these keys to fluid-proc's
 /// porous free-stream model; `[structure.porous]` gives the same keys to a
 /// structure solver that applies the load itself, with no fluid process.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PorousLoad {
     /// Free-stream velocity of the air [m/s].

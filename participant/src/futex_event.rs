@@ -7,7 +7,7 @@
 //! semaphore event waits for a monotonic deadline by polling with
 //! `nanosleep`. Between two processes taking turns beside other work,
 //! every hand-off is a wake-up (`presence.rs`), so those calls are most of
-//! what the hand-off costs (README, "Exchange speed").
+//! what the hand-off costs (docs/src/exchange-speed.md).
 //!
 //! No notification is lost: the listener compares the counter with the
 //! last value it saw, and the kernel compares it once more before it

@@ -21,8 +21,8 @@
 //! filter bounds how nearly dependent the kept columns are, which is what
 //! keeps forming VᵀV (whose condition is R's squared) harmless here: the
 //! tests check the step against a QR decomposition of V, and the shipped
-//! implicit scenes take the tries they took with one (README, "At the
-//! original code's resolution").
+//! implicit scenes take the tries they took with one (docs/src/parachutes-in-flow.md,
+//! "At the original code's resolution").
 
 use crate::joint::Share;
 

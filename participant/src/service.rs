@@ -7,7 +7,7 @@
 //! add, and a system call only when someone sleeps on it; a sleep is one
 //! `futex` wait. Beside other work, where nobody spins and every hand-off
 //! between two participants is a wake-up (`presence.rs`), that is most of
-//! what a hand-off costs (README, "Exchange speed").
+//! what a hand-off costs (docs/src/exchange-speed.md).
 
 use iceoryx2::service::Service;
 use iceoryx2_bb_elementary_traits::testing::abandonable::Abandonable;

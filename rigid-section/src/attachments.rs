@@ -18,7 +18,7 @@ pub struct AttachmentSpec {
 }
 
 /// The attachment keys of the structure's table; the others are skipped.
-#[derive(Default, Deserialize)]
+#[derive(Default, Deserialize, schemars::JsonSchema)]
 struct StructureKeys {
     #[serde(default)]
     parachute: Option<Attached>,
@@ -26,7 +26,7 @@ struct StructureKeys {
     strings: Vec<Attached>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, schemars::JsonSchema)]
 struct Attached {
     #[serde(default)]
     body: Option<String>,

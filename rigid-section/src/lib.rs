@@ -25,7 +25,7 @@ pub fn default_gravity() -> [f64; 3] {
     [0.0, 0.0, -STANDARD_GRAVITY]
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigidSection {
     /// Gravitational acceleration [m/s²].
@@ -38,7 +38,7 @@ pub struct RigidSection {
     pub bodies: Vec<BodySpec>,
 }
 
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
     pub name: String,
@@ -82,7 +82,7 @@ pub struct BodySpec {
 }
 
 /// A body's geometry, in its own frame.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum ShapeSpec {
     Sphere {

@@ -36,7 +36,9 @@ pub const DEFAULT_FILTER: f64 = 1e-2;
 /// Most tries per window a scenario may ask for.
 pub const MAX_ITERATIONS: f64 = 10_000.0;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum SchemeName {
     #[default]
@@ -59,7 +61,9 @@ impl SchemeName {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum AccelerationName {
     Constant,
@@ -69,7 +73,9 @@ pub enum AccelerationName {
     IqnIls,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum OnMax {
     /// Stop the run, naming the window, field and residual.
@@ -80,7 +86,7 @@ pub enum OnMax {
 }
 
 /// `[coupling.implicit]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ImplicitSection {
     #[serde(default)]
@@ -120,7 +126,7 @@ pub struct ImplicitSection {
 }
 
 /// `[[coupling.implicit.field]]`: one accelerated field's own limits.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldLimits {
     pub name: String,

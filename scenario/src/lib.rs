@@ -8,6 +8,7 @@ pub mod answer;
 mod check;
 mod error;
 pub mod implicit;
+pub mod reference;
 pub mod section;
 mod spans;
 
@@ -35,7 +36,7 @@ pub const MAX_RANKS: f64 = 4096.0;
 
 /// The coupling part of a scenario file, with the names of the
 /// participants' own tables.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Scenario {
     pub run: RunSection,
     pub coupling: CouplingSection,
@@ -47,7 +48,7 @@ pub struct Scenario {
 }
 
 /// `[run]`: what is simulated and for how long.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RunSection {
     /// Scene name, used in logs and the manifest.
@@ -67,7 +68,7 @@ pub struct RunSection {
 }
 
 /// `[coupling]`: the FSI window and its sub-steps (docs/PROTOCOL.md, "The schedule").
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CouplingSection {
     /// FSI window = one fluid step Δt_f [s].
@@ -141,13 +142,13 @@ pub const COUPLING_SECTIONS: [&str; 3] = ["run", "coupling", "participants"];
 
 /// `[participants]`: the processes this scene starts, by name. A name not
 /// listed is not started and exchanges nothing.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(transparent)]
 pub struct Participants(BTreeMap<String, ParticipantSpec>);
 
 /// Which executable plays a participant: any program that speaks the
 /// protocol (docs/PROTOCOL.md).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ParticipantSpec {
     /// A bare name is looked up beside the `coupler` executable, then on PATH;

@@ -1,5 +1,5 @@
 //! The cross-shaped T-11 canopy (dissertation table 5.2; the geometry is our
-//! assumption, see the README): a flat cross of five squares of side D₀/3.
+//! assumption, see docs/src/structure.md): a flat cross of five squares of side D₀/3.
 
 use structure_proc::cross::cross_canopy;
 use structure_section::parachute::ParachuteModel;

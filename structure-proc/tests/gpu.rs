@@ -127,7 +127,7 @@ const F64: Tolerance = Tolerance {
     reaction: 1e-12,
 };
 
-/// f32 where an adapter lacks f64: the README's stated error on a 1 m
+/// f32 where an adapter lacks f64: the guide's stated error (docs/src/gpu.md) on a 1 m
 /// structure after 200 steps.
 const F32: Tolerance = Tolerance {
     position: 1e-5,

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 /// round-off at scene sizes of metres.
 pub const DEFAULT_THICKNESS: f64 = 1e-3;
 
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Collision {
     /// Gap [m] kept between every free node and every body surface: a node

@@ -5,7 +5,9 @@ use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
 /// The time integrator of the structure, one key in the scenario.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Integrator {
     /// Explicit (forward) Euler, thesis §2.4.1.
@@ -93,7 +95,7 @@ impl Integrator {
 }
 
 /// `[structure.newmark]`: β and γ of thesis eqs. (25)–(26) for `integrator = "newmark"`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NewmarkParams {
     #[serde(default = "quarter")]
@@ -113,7 +115,7 @@ impl Default for NewmarkParams {
 
 /// `[structure.hht]`: Hilber–Hughes–Taylor α ∈ [−1/3, 0]; β = (1 − α)²/4 and
 /// γ = 1/2 − α follow from it (Hilber, Hughes & Taylor 1977).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HhtParams {
     #[serde(default = "default_alpha")]
@@ -129,7 +131,7 @@ impl Default for HhtParams {
 }
 
 /// `[structure.adaptive]`: the error tolerance of `integrator = "dormand-prince"`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AdaptiveParams {
     /// Largest local error per internal step, relative to 1 + |value| of each
@@ -151,7 +153,7 @@ fn default_adaptive_tolerance() -> f64 {
 }
 
 /// `[structure.newton]`: the nonlinear solve of the implicit schemes.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NewtonParams {
     /// Stop when the correction of the acceleration is this small relative to it.
@@ -170,7 +172,9 @@ pub struct NewtonParams {
 }
 
 /// `[structure.newton] linear_solver`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum LinearSolver {
     /// Conjugate gradients, matrix-free, preconditioned by the diagonal.

@@ -23,7 +23,7 @@ pub mod sheets;
 pub use scene::Scene;
 pub use sheets::{Cords, Disk};
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StructureSection {
     #[serde(default)]
@@ -86,7 +86,9 @@ pub struct StructureSection {
 }
 
 /// Where the structure's steps run.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Device {
     #[default]
@@ -104,7 +106,9 @@ pub const GPU_INTEGRATORS: [Integrator; 3] = [
     Integrator::Rk4,
 ];
 
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Damping {
     #[default]
@@ -127,7 +131,7 @@ pub enum Elasticity {
     Membrane(Membrane),
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Fibre {
     /// Cross-section area A [m²].
@@ -136,7 +140,7 @@ pub struct Fibre {
     pub young_modulus: f64,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Membrane {
     /// Young's modulus E [Pa].
@@ -147,7 +151,7 @@ pub struct Membrane {
     pub thickness: f64,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Annulus {
     /// Inner (vent) radius R_int [m].
@@ -169,7 +173,7 @@ pub struct Annulus {
 
 /// `fabric = { … }` of a generated surface: mass per area and exactly one of
 /// three elasticities.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Fabric {
     /// Mass per area [kg/m²], lumped to the nodes.
@@ -249,7 +253,7 @@ fn default_outer_nodes() -> u32 {
     107
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StringSpec {
     /// Fixed end [m].
@@ -269,7 +273,7 @@ pub struct StringSpec {
 }
 
 /// A named mass point of a hand-built network.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PointSpec {
     pub name: String,
@@ -287,7 +291,7 @@ pub struct PointSpec {
 }
 
 /// A Hookean spring between two named points (thesis eq. 67).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpringSpec {
     pub ends: [String; 2],

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 pub const FOOT: f64 = 0.3048;
 pub const INCH: f64 = 0.0254;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ParachuteModel {
     /// C-9 personnel parachute: 28 ft flat circular, 28 gores and lines, no vent
@@ -100,7 +100,7 @@ impl ParachuteModel {
     }
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Parachute {
     pub model: ParachuteModel,
@@ -163,7 +163,7 @@ pub struct Parachute {
     pub release_time: Option<f64>,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LineChange {
     /// Line indices, 0-based, counter-clockwise from +x.
@@ -172,7 +172,7 @@ pub struct LineChange {
     pub rest_length_change: f64,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LineBreak {
     pub lines: Vec<u32>,
@@ -399,7 +399,7 @@ impl Parachute {
 }
 
 /// Which part of a rectangular cloth is held.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ClothHold {
     /// The edge x = 0, x = width, y = 0 or y = depth.
@@ -414,7 +414,9 @@ pub enum ClothHold {
     CornerX1Y1,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum ClothPlane {
     /// In the plane z = origin.z.
@@ -424,7 +426,7 @@ pub enum ClothPlane {
     Vertical,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Cloth {
     /// Size along x [m] and along the second axis [m].

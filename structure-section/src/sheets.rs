@@ -8,7 +8,7 @@ use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
 /// A flat circular cloth, free, its plane horizontal.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Disk {
     /// Across [m].
@@ -50,7 +50,7 @@ impl Disk {
 
 /// Straight strings from `from` to `to`, each `segments` springs, repeated
 /// `count` times, each copy shifted by `spacing` from the one before.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Cords {
     /// First end [m].

@@ -115,6 +115,38 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
         e[0],
         e[last]
     );
+    summary_is_the_monitors(&dir.join("run"), &m);
+}
+
+/// The structure's summary in `manifest.json` (`structure-proc`'s
+/// `opening.rs`, sent through the participant library) says what its
+/// designer's monitors in `monitors.csv` say: the steady part's mean
+/// descent speed and the largest payload force before it, to round-off.
+fn summary_is_the_monitors(run: &std::path::Path, m: &Monitors) {
+    let summary = &manifest(run)["parachute"];
+    let from = summary["steady_from"]
+        .as_f64()
+        .expect("a parachute summary");
+    let (t, speed, force) = (
+        m.column("time"),
+        m.column("structure.parachute.descent_speed"),
+        m.column("structure.parachute.payload_force"),
+    );
+    let steady: Vec<f64> = (0..t.len())
+        .filter(|&i| t[i] >= from)
+        .map(|i| speed[i])
+        .collect();
+    let mean = steady.iter().sum::<f64>() / steady.len() as f64;
+    let said = summary["descent_speed"].as_f64().unwrap();
+    assert!(
+        (said - mean).abs() <= 1e-12 * mean.abs(),
+        "{said} against {mean} m/s"
+    );
+    let peak = (0..t.len())
+        .filter(|&i| t[i] < from)
+        .map(|i| force[i])
+        .fold(0.0, f64::max);
+    assert_eq!(summary["peak_opening_force"].as_f64(), Some(peak), "N");
 }
 
 /// The C-9's lines attached to a rigid body instead of a mass point (the dissertation

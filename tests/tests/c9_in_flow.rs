@@ -9,7 +9,7 @@
 //! twin's harder shock, the finer grid) are the validation tier: about 30
 //! minutes together, more than CI can give them, so they are ignored there
 //! and run with `cargo test --release -p canopy-tests --test c9_in_flow --
-//! --ignored` (README, "The two commands"). CI runs the coarse variants
+//! --ignored` (docs/src/commands.md). CI runs the coarse variants
 //! below (1 m cells).
 
 use std::path::{Path, PathBuf};
@@ -163,7 +163,8 @@ fn uneven_and_broken_lines_tilt_the_c9() {
 /// equals the total mass times the payload's acceleration, within 3 % of
 /// the weight, over the last second. The body is under one cell across,
 /// so the descent-speed difference is the under-resolved wake's (the
-/// README gives it on the shipped grid); it is printed, not asserted.
+/// guide gives it on the shipped grid, docs/src/parachutes-in-flow.md);
+/// it is printed, not asserted.
 #[test]
 fn the_parachutists_body_in_the_flow_feels_the_air_and_the_whole_obeys_newton() {
     let (end, from) = (4.0, 3.0);

@@ -85,8 +85,8 @@ fn tries(
     (mean, largest)
 }
 
-/// The README's table of tries per window on the added-mass case over
-/// 0.3 s: constant relaxation at ω = 0.01 does not converge within 20
+/// The guide's table of tries per window (docs/src/implicit.md) on the
+/// added-mass case over 0.3 s: constant relaxation at ω = 0.01 does not converge within 20
 /// tries; Aitken takes 6.5 on average, IQN-ILS 3.2 (measured), fewer than
 /// Aitken as the issue asks (preCICE's perpendicular flap: 3–4 with
 /// IQN-ILS). Every run carries the sheet at the inflow's speed.
@@ -178,8 +178,8 @@ fn the_closed_canopy_comes_to_rest_under_implicit_coupling() {
     );
 }
 
-/// The README's table row for the closed canopy over 0.5 s: constant
-/// relaxation at ω = 0.1 converges in no window within 20 tries, Aitken
+/// The guide's table row (docs/src/implicit.md) for the closed canopy
+/// over 0.5 s: constant relaxation at ω = 0.1 converges in no window within 20 tries, Aitken
 /// takes 22.5 on average and reaches 50 in some windows, IQN-ILS 7.4 with
 /// 11 at most (measured).
 #[test]

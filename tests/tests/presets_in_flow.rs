@@ -17,8 +17,9 @@
 //!   or a drag gone wrong; it validates nothing finer. At about ten cells
 //!   across a canopy the drag is not converged (the C-9 descends 10 %
 //!   slower at 8.5 cells than at 17), and a canopy's wake takes several
-//!   diameters of fall to build (the README's table gives each scene's
-//!   numbers on its shipped grid). The C-9's C_D0 is validated on fine
+//!   diameters of fall to build (the table of
+//!   docs/src/parachutes-in-flow.md gives each scene's numbers on its
+//!   shipped grid). The C-9's C_D0 is validated on fine
 //!   grids in tests/tests/c9_in_flow.rs.
 //!
 //! CI runs the T-11 (the cross) and the Intruder (a flat circular canopy,

@@ -2,7 +2,7 @@
 //! gradients preconditioned with smoothed-aggregation algebraic multigrid
 //! (Vaněk, Mandel & Brezina, Computing 56, 1996): a V-cycle costs a few
 //! passes over the matrix, and the iterations it needs grow slowly with the
-//! mesh (the README's implicit bench: 8 a solve on 529 nodes, 11 on
+//! mesh (the guide's implicit bench, docs/src/structure-speed.md: 8 a solve on 529 nodes, 11 on
 //! 50 176).
 //!
 //! The hierarchy: nodes are grouped into aggregates (a node and its
