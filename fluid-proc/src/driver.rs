@@ -55,6 +55,7 @@ pub(crate) fn declaration(bodies: usize, with_bodies: bool, monitors: Vec<String
         .reads_if_written(CANOPY_POSITIONS)
         .reads_if_written(CANOPY_VELOCITIES)
         .monitors(monitors)
+        .units(crate::units::unit_of)
         .checkpoints();
     match with_bodies {
         true => d.reads_if_written(BODY_STATES),

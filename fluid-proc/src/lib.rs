@@ -86,6 +86,7 @@ pub mod rows;
 pub mod setup;
 pub mod side;
 pub mod surface;
+pub mod units;
 pub mod viscosity;
 pub mod weno5;
 

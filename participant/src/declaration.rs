@@ -53,6 +53,10 @@ pub struct Declaration {
     pub writes: Vec<Write>,
     pub reads: Vec<Read>,
     pub monitors: Vec<String>,
+    /// The SI unit of each monitor that has one, by name (`m/s`, `N`, `1`
+    /// for a ratio): the report's axes say it ([`Declaration::units`]).
+    #[serde(default)]
+    pub units: std::collections::BTreeMap<String, String>,
     /// Optional commands the participant supports: [`CHECKPOINTS`] for
     /// `SaveCheckpoint` and `RestoreCheckpoint`, which implicit coupling
     /// needs; [`RESTARTS`] for `WriteCheckpoint` and `Resume`, which run
@@ -72,6 +76,7 @@ impl Declaration {
             writes: Vec::new(),
             reads: Vec::new(),
             monitors: Vec::new(),
+            units: Default::default(),
             supports: Vec::new(),
             summary: None,
         }
@@ -120,6 +125,26 @@ impl Declaration {
     pub fn monitors<S: Into<String>>(mut self, names: impl IntoIterator<Item = S>) -> Self {
         self.monitors.extend(names.into_iter().map(Into::into));
         self
+    }
+
+    /// The unit of each monitor declared so far that has none yet, as
+    /// `unit_of` gives it from the monitor's name (an empty unit: none).
+    /// The coupler writes them to `units.csv` beside `monitors.csv` and
+    /// labels the report's axes with them.
+    pub fn units<S: AsRef<str>>(mut self, unit_of: impl Fn(&str) -> S) -> Self {
+        for m in &self.monitors {
+            let unit = unit_of(m);
+            let unit = unit.as_ref();
+            if !unit.is_empty() && !self.units.contains_key(m) {
+                self.units.insert(m.clone(), unit.to_string());
+            }
+        }
+        self
+    }
+
+    /// Monitor `name`'s unit; empty when it was given none.
+    pub fn unit_of(&self, name: &str) -> &str {
+        self.units.get(name).map_or("", String::as_str)
     }
 
     /// Writes, when the run ends, a summary of it

@@ -46,7 +46,13 @@ pub fn with_implicit(
         monitors.extend(written);
         monitors.push(COLUMNS.to_string());
     }
-    let mut declaration = declaration.monitors(monitors);
+    let mut declaration = declaration.monitors(monitors).units(|m| match m {
+        TRIES => "tries",
+        COLUMNS => "columns",
+        // ‖r‖₂/‖x‖₂ of a field: a ratio.
+        m if m.starts_with(RESIDUAL) => "1",
+        _ => "",
+    });
     if settings.parallel && writer {
         declaration = declaration.writes_items_of(&share_field(me), 1);
         for other in names.iter().filter(|n| *n != me) {

@@ -67,6 +67,24 @@ fn monitors(b: &Bodies) -> Vec<Monitor> {
     v
 }
 
+/// Monitor `name`'s SI unit (for the report's axes; empty: none known).
+fn unit_of(name: &str) -> &'static str {
+    let ends = |suffixes: &[&str]| suffixes.iter().any(|s| name.ends_with(s));
+    match name {
+        "kinetic_energy" | "potential_energy" => "J",
+        "angular_momentum" => "kg·m²/s",
+        "contact_impulses" => "impulses",
+        n if n.starts_with("momentum.") => "kg·m/s",
+        // A body's: its energy and spin, its centre, velocity and spin rates.
+        _ if ends(&[".kinetic_energy"]) => "J",
+        _ if ends(&[".spin_momentum"]) => "kg·m²/s",
+        _ if ends(&[".omegax", ".omegay", ".omegaz", ".w1", ".w2", ".w3"]) => "rad/s",
+        _ if ends(&[".vx", ".vy", ".vz"]) => "m/s",
+        _ if ends(&[".x", ".y", ".z"]) => "m",
+        _ => "",
+    }
+}
+
 fn publish(p: &mut Participant, b: &Bodies, window_end: bool) -> Result<(), Error> {
     let n = ATTACHMENT_STATE_LEN * b.attachments.len();
     p.write_field(ATTACHMENT_STATE, n, |out| b.attachment_state(out))?;
@@ -97,6 +115,7 @@ fn declaration(b: &Bodies, n_i: u32) -> Declaration {
     .reads_if_written(ATTACHMENT_IMPULSE)
     .reads_if_written(COLLISION_IMPULSE)
     .monitors(monitors(b).into_iter().map(|m| m.name))
+    .units(unit_of)
     .checkpoints()
     .restarts()
 }

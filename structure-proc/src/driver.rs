@@ -145,6 +145,7 @@ fn declaration(
     .reads_if_written(CANOPY_PRESSURE)
     .reads_if_written(ATTACHMENT_STATE)
     .monitors(monitors.iter().map(|m| m.name.clone()))
+    .units(crate::units::unit_of)
     .checkpoints()
     .restarts();
     if m.parachute.is_some() {

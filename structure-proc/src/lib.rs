@@ -35,6 +35,7 @@ pub mod sheets;
 pub mod stability;
 pub mod stepper;
 pub mod system;
+pub mod units;
 pub mod window_start;
 
 pub use build::build_model;

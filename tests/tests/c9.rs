@@ -116,6 +116,32 @@ fn drop_keeps_mesh_valid(name: &str, change: impl FnOnce(&mut Parachute)) {
         e[last]
     );
     summary_is_the_monitors(&dir.join("run"), &m);
+    units_name_every_column(&dir.join("run"));
+}
+
+/// `units.csv` gives every column of `monitors.csv` a row, and the
+/// designer's monitors their SI units, which the report's axes show.
+fn units_name_every_column(run: &std::path::Path) {
+    let units = std::fs::read_to_string(run.join("units.csv")).unwrap();
+    let unit: std::collections::HashMap<&str, &str> = units
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.split_once(','))
+        .collect();
+    let csv = std::fs::read_to_string(run.join("monitors.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    for column in header.split(',') {
+        assert!(unit.contains_key(column), "units.csv lacks {column}");
+    }
+    for (column, si) in [
+        ("time", "s"),
+        ("structure.parachute.descent_speed", "m/s"),
+        ("structure.parachute.payload_force", "N"),
+        ("structure.parachute.tilt", "°"),
+        ("fluid.mean_pressure_jump", "Pa"),
+    ] {
+        assert_eq!(unit.get(column), Some(&si), "{column}");
+    }
 }
 
 /// The structure's summary in `manifest.json` (`structure-proc`'s

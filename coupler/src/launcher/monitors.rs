@@ -21,6 +21,9 @@ struct Part {
     next: u64,
 }
 
+/// The file beside `monitors.csv` that gives each column's unit.
+pub const UNITS: &str = "units.csv";
+
 pub struct Monitors {
     path: PathBuf,
     file: std::fs::File,
@@ -83,6 +86,8 @@ pub fn keep_rows(path: &Path, rows: u64) -> std::io::Result<bool> {
 /// The columns: the header, and where the energies and the tries are.
 struct Layout {
     header: String,
+    /// `units.csv`: each column of `monitors.csv` with its declared unit.
+    units: String,
     widths: Vec<usize>,
     kinetic: Vec<(usize, usize)>,
     potential: Vec<(usize, usize)>,
@@ -90,13 +95,21 @@ struct Layout {
 }
 
 impl Layout {
+    /// `units.csv` beside `monitors` (at `monitors`).
+    fn write_units(&self, monitors: &Path) -> Result<(), MonitorsError> {
+        let path = monitors.with_file_name(UNITS);
+        participant::atomic::write_atomic(&path, &self.units).map_err(|e| io_error(&path, e))
+    }
+
     /// `names[i]` declared `declarations[i]`.
     fn of(names: &[String], declarations: &[Declaration]) -> Layout {
         let mut header = String::from("time,kinetic_energy,potential_energy");
+        let mut units = String::from("column,unit\ntime,s\nkinetic_energy,J\npotential_energy,J\n");
         let (mut kinetic, mut potential, mut tries) = (Vec::new(), Vec::new(), None);
         for (p, (name, d)) in names.iter().zip(declarations).enumerate() {
             for (c, m) in d.monitor_names().iter().enumerate() {
                 header.push_str(&format!(",{name}.{m}"));
+                units.push_str(&format!("{name}.{m},{}\n", d.unit_of(m)));
                 match m.as_str() {
                     "kinetic_energy" => kinetic.push((p, c)),
                     "potential_energy" => potential.push((p, c)),
@@ -107,6 +120,7 @@ impl Layout {
         }
         Layout {
             header,
+            units,
             widths: declarations
                 .iter()
                 .map(|d| d.monitor_names().len())
@@ -127,6 +141,7 @@ impl Monitors {
         timing: &Timing,
     ) -> Result<Monitors, MonitorsError> {
         let layout = Layout::of(names, declarations);
+        layout.write_units(path)?;
         // Written aside and renamed, so the file appears with its header.
         let header = format!("{}\n", layout.header);
         participant::atomic::write_atomic(path, &header).map_err(|e| io_error(path, e))?;
@@ -147,6 +162,7 @@ impl Monitors {
         if text.lines().next() != Some(layout.header.as_str()) {
             return Err(MonitorsError::Columns(path.display().to_string()));
         }
+        layout.write_units(path)?;
         let tries = layout
             .tries
             .map(|(p, c)| 3 + layout.widths[..p].iter().sum::<usize>() + c);

@@ -1,6 +1,8 @@
 //! `monitors.png`: every run's report, each monitor of `monitors.csv`
-//! against simulated time in a panel of its own, so that a person can look
-//! rather than read (the designer's numbers of issue 23 among them).
+//! against simulated time in a panel of its own, titled with its column
+//! and its axes labelled with time [s] and the unit its participant
+//! declared (`units.csv`), so that a person can look rather than read (the
+//! designer's numbers of issue 23 among them).
 
 use super::iterations::{register_font, FONT};
 use plotters::prelude::*;
@@ -39,12 +41,23 @@ fn read(csv: &Path) -> Option<(Vec<f64>, Vec<Column>)> {
     Some((column(0), monitors))
 }
 
+/// Each column's unit, from `units.csv` (none for a column it lacks).
+fn units(csv: &Path) -> std::collections::HashMap<String, String> {
+    let text = std::fs::read_to_string(csv).unwrap_or_default();
+    text.lines()
+        .skip(1)
+        .filter_map(|l| l.split_once(','))
+        .map(|(c, u)| (c.to_string(), u.to_string()))
+        .collect()
+}
+
 /// Write `monitors.png` in `run_dir` from its `monitors.csv`; nothing for a
 /// run without rows.
 pub fn write(run_dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let Some((time, monitors)) = read(&run_dir.join("monitors.csv")) else {
         return Ok(());
     };
+    let units = units(&run_dir.join(super::monitors::UNITS));
     if time.len() < 2 || monitors.is_empty() {
         return Ok(());
     }
@@ -56,16 +69,18 @@ pub fn write(run_dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
     area.fill(&WHITE)?;
     let step = time.len().div_ceil(POINTS).max(1);
     for (panel, (name, values)) in area.split_evenly((rows, COLUMNS)).iter().zip(&monitors) {
-        draw(panel, name, &time, values, step)?;
+        let unit = units.get(name).map_or("", String::as_str);
+        draw(panel, (name, unit), &time, values, step)?;
     }
     area.present()?;
     Ok(())
 }
 
-/// One monitor against time in `panel`, every `step`-th row.
+/// One monitor, its (name, unit), against time in `panel`, every
+/// `step`-th row.
 fn draw(
     panel: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
-    name: &str,
+    (name, unit): (&str, &str),
     time: &[f64],
     values: &[f64],
     step: usize,
@@ -86,14 +101,20 @@ fn draw(
     let mut chart = ChartBuilder::on(panel)
         .caption(name, (FONT, 13))
         .margin(6)
-        .x_label_area_size(22)
-        .y_label_area_size(58)
+        .x_label_area_size(32)
+        .y_label_area_size(66)
         .build_cartesian_2d(t0..t1.max(t0 + 1e-300), (lo - pad)..(hi + pad))?;
     chart
         .configure_mesh()
         .x_labels(4)
         .y_labels(5)
         .label_style((FONT, 10))
+        .axis_desc_style((FONT, 10))
+        .x_desc("time [s]")
+        .y_desc(match unit {
+            "" => String::new(),
+            u => format!("[{u}]"),
+        })
         .y_label_formatter(&|v| match (1e-3..1e4).contains(&v.abs()) {
             true => format!("{v:.3}"),
             false => format!("{v:.2e}"),
