@@ -17,6 +17,17 @@ use participant::{Monitor, Summary};
 /// The manifest key of the summary.
 pub const SUMMARY: &str = "parachute";
 
+/// The designer's monitors on the summary's picture, `parachute.png`
+/// (those without a value, the air's without a fluid, are left out).
+const PICTURE: [&str; 6] = [
+    "parachute.descent_speed",
+    "parachute.projected_diameter",
+    "parachute.drag",
+    "parachute.drag_coefficient",
+    "parachute.payload_force",
+    "parachute.tilt",
+];
+
 /// The designer's monitors a row holds, after its time.
 const COLUMNS: [&str; 4] = [
     "parachute.descent_speed",
@@ -55,7 +66,7 @@ impl Record {
     /// fewer than two rows in its steady part.
     pub fn summary(&self) -> Option<Summary> {
         let o = Opening::of(&self.rows)?;
-        Some(Summary::new(SUMMARY, o.values(), o.describe()))
+        Some(Summary::new(SUMMARY, o.values(), o.describe()).plotting(PICTURE))
     }
 }
 

@@ -173,6 +173,12 @@ fn summary_is_the_monitors(run: &std::path::Path, m: &Monitors) {
         .map(|i| force[i])
         .fold(0.0, f64::max);
     assert_eq!(summary["peak_opening_force"].as_f64(), Some(peak), "N");
+    // And its one-page picture is there, whole (PNG's closing IEND chunk).
+    let png = std::fs::read(run.join("parachute.png")).expect("parachute.png");
+    assert!(
+        png.ends_with(b"IEND\xae\x42\x60\x82"),
+        "a torn parachute.png"
+    );
 }
 
 /// The C-9's lines attached to a rigid body instead of a mass point (the dissertation

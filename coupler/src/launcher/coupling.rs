@@ -31,9 +31,9 @@ const WATCH_GRACE: Duration = Duration::from_secs(2);
 pub struct Outcome {
     /// Each participant's name and statistics, in the scenario's order.
     pub stats: Vec<(String, Stats)>,
-    /// What participants said of the run ([`Summary`]), in the order they
-    /// finished.
-    pub summaries: Vec<Summary>,
+    /// What participants said of the run ([`Summary`]), each with its
+    /// participant's name, in the order they finished.
+    pub summaries: Vec<(String, Summary)>,
     pub windows: u64,
     pub coupler_send_s: f64,
     /// Wall time from the start signal to the last participant's statistics.
@@ -130,7 +130,7 @@ struct Watch<'a> {
     shared: &'a Shared<'a>,
     monitors: Monitors,
     stats: Vec<Option<Stats>>,
-    summaries: Vec<Summary>,
+    summaries: Vec<(String, Summary)>,
     /// Participants writing a run checkpoint, each with the rows it waits
     /// to see kept in the file.
     checkpoints: Vec<(usize, u64)>,
@@ -193,7 +193,7 @@ impl Watch<'_> {
             Report::Checkpoint { rows } => self.checkpoints.push((p, rows)),
             // Heard: the participant works through a long window.
             Report::Tried { .. } => {}
-            Report::Summary(s) => self.summaries.push(s),
+            Report::Summary(s) => self.summaries.push((self.names[p].clone(), s)),
             Report::Finished(s) => {
                 self.stats[p] = Some(s);
                 if let Ok(mut f) = self.shared.finished.lock() {

@@ -13,6 +13,11 @@ const COLUMNS: usize = 4;
 const PANEL: (u32, u32) = (320, 200);
 /// Most panels drawn (the first monitors, in the file's order).
 const MOST: usize = 64;
+/// The summary's picture: its panels per row, each panel's size, and the
+/// height of the text above them, in pixels.
+const PAGE_COLUMNS: usize = 2;
+const PAGE_PANEL: (u32, u32) = (560, 300);
+const PAGE_HEAD: u32 = 170;
 /// Most points drawn per monitor: longer runs are thinned evenly.
 const POINTS: usize = 2000;
 
@@ -36,7 +41,6 @@ fn read(csv: &Path) -> Option<(Vec<f64>, Vec<Column>)> {
     let monitors = (1..header.len())
         .map(|i| (header[i].to_string(), column(i)))
         .filter(|(_, v)| v.iter().any(|x| x.is_finite()))
-        .take(MOST)
         .collect();
     Some((column(0), monitors))
 }
@@ -54,9 +58,10 @@ fn units(csv: &Path) -> std::collections::HashMap<String, String> {
 /// Write `monitors.png` in `run_dir` from its `monitors.csv`; nothing for a
 /// run without rows.
 pub fn write(run_dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
-    let Some((time, monitors)) = read(&run_dir.join("monitors.csv")) else {
+    let Some((time, mut monitors)) = read(&run_dir.join("monitors.csv")) else {
         return Ok(());
     };
+    monitors.truncate(MOST);
     let units = units(&run_dir.join(super::monitors::UNITS));
     if time.len() < 2 || monitors.is_empty() {
         return Ok(());
@@ -121,5 +126,58 @@ fn draw(
         })
         .draw()?;
     chart.draw_series(LineSeries::new(points, BLUE.stroke_width(1)))?;
+    Ok(())
+}
+
+/// The summary's picture, `<summary name>.png` in `run_dir`: the run's
+/// name and the summary's line, one clause a line, above the monitors of
+/// `participant` the summary asked for, each against time with its unit
+/// (those without a value left out); nothing when none has one.
+pub fn summary_page(
+    run_dir: &Path,
+    participant: &str,
+    summary: &participant::Summary,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let Some((time, monitors)) = read(&run_dir.join("monitors.csv")) else {
+        return Ok(());
+    };
+    let wanted: Vec<String> = (summary.plots.iter())
+        .map(|m| format!("{participant}.{m}"))
+        .collect();
+    let shown: Vec<&Column> = (wanted.iter())
+        .filter_map(|w| monitors.iter().find(|(name, _)| name == w))
+        .collect();
+    if time.len() < 2 || shown.is_empty() {
+        return Ok(());
+    }
+    register_font();
+    let units = units(&run_dir.join(super::monitors::UNITS));
+    let rows = shown.len().div_ceil(PAGE_COLUMNS);
+    let size = (
+        PAGE_PANEL.0 * PAGE_COLUMNS as u32,
+        PAGE_HEAD + PAGE_PANEL.1 * rows as u32,
+    );
+    let png = run_dir.join(format!("{}.png", summary.name));
+    let area = BitMapBackend::new(&png, size).into_drawing_area();
+    area.fill(&WHITE)?;
+    let (head, panels) = area.split_vertically(PAGE_HEAD);
+    let run = run_dir
+        .file_name()
+        .map_or(String::new(), |n| n.to_string_lossy().to_string());
+    head.draw_text(
+        &format!("{run}: {}", summary.name),
+        &(FONT, 24).into_text_style(&head),
+        (16, 10),
+    )?;
+    for (i, clause) in summary.line.split(", ").enumerate() {
+        let at = (24, 48 + 22 * i as i32);
+        head.draw_text(clause, &(FONT, 17).into_text_style(&head), at)?;
+    }
+    let step = time.len().div_ceil(POINTS).max(1);
+    for (panel, (name, values)) in panels.split_evenly((rows, PAGE_COLUMNS)).iter().zip(shown) {
+        let unit = units.get(name).map_or("", String::as_str);
+        draw(panel, (name, unit), &time, values, step)?;
+    }
+    area.present()?;
     Ok(())
 }

@@ -118,15 +118,19 @@ pub(super) fn launch(
         End::Completed(outcome) => outcome.summaries.as_slice(),
         _ => &[],
     };
-    for s in summaries {
+    for (participant, s) in summaries {
         super::manifest::add_summary(&mut manifest, s);
+        if let Err(e) = super::report::summary_page(run_dir, participant, s) {
+            let _ = std::fs::remove_file(run_dir.join(format!("{}.png", s.name)));
+            eprintln!("warning: cannot write {}.png: {e}", s.name);
+        }
     }
     manifest[SCENARIO_FILE] = json!(scenario_file);
     if let Err(e) = super::manifest::write_final(&run_dir.join("manifest.json"), &manifest) {
         eprintln!("warning: {e}");
     }
     tell(&end, &children, run_dir, started, scenario_path);
-    for s in summaries {
+    for (_, s) in summaries {
         eprintln!("{}", s.line);
     }
     let names: Vec<String> = checked.programs.iter().map(|(n, _)| n.clone()).collect();
