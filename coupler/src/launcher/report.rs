@@ -138,6 +138,14 @@ pub fn summary_page(
     participant: &str,
     summary: &participant::Summary,
 ) -> Result<(), Box<dyn std::error::Error>> {
+    // The run's own pictures keep their names: no page overwrites them.
+    if ["monitors", "iterations"].contains(&summary.name.as_str()) {
+        eprintln!(
+            "warning: summary `{}` names one of the run's own pictures: no page",
+            summary.name
+        );
+        return Ok(());
+    }
     let Some((time, monitors)) = read(&run_dir.join("monitors.csv")) else {
         return Ok(());
     };

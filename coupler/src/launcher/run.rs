@@ -49,6 +49,26 @@ pub fn run(scenario_path: &Path, out: Option<PathBuf>) -> i32 {
     launch(&checked, &run_id, &run_dir, None, started)
 }
 
+/// A completed run's summaries into `manifest` and their pictures into
+/// `run_dir`; the lines to print once the run's end is told.
+fn summaries(end: &End, run_dir: &Path, manifest: &mut serde_json::Value) -> Vec<String> {
+    let End::Completed(outcome) = end else {
+        return Vec::new();
+    };
+    for (participant, s) in &outcome.summaries {
+        super::manifest::add_summary(manifest, s);
+        if let Err(e) = super::report::summary_page(run_dir, participant, s) {
+            let _ = std::fs::remove_file(run_dir.join(format!("{}.png", s.name)));
+            eprintln!("warning: cannot write {}.png: {e}", s.name);
+        }
+    }
+    outcome
+        .summaries
+        .iter()
+        .map(|(_, s)| s.line.clone())
+        .collect()
+}
+
 /// The manifest's record of the scenario file a run was started from.
 pub(super) const SCENARIO_FILE: &str = "scenario_file";
 
@@ -114,24 +134,14 @@ pub(super) fn launch(
     let mut manifest = manifest(checked, run_id, &end, &children, status, started);
     manifest["implicit"] = iterations.map_or(serde_json::Value::Null, |i| i.summary());
     manifest["resumed_after_window"] = json!(resume);
-    let summaries = match &end {
-        End::Completed(outcome) => outcome.summaries.as_slice(),
-        _ => &[],
-    };
-    for (participant, s) in summaries {
-        super::manifest::add_summary(&mut manifest, s);
-        if let Err(e) = super::report::summary_page(run_dir, participant, s) {
-            let _ = std::fs::remove_file(run_dir.join(format!("{}.png", s.name)));
-            eprintln!("warning: cannot write {}.png: {e}", s.name);
-        }
-    }
+    let summary_lines = summaries(&end, run_dir, &mut manifest);
     manifest[SCENARIO_FILE] = json!(scenario_file);
     if let Err(e) = super::manifest::write_final(&run_dir.join("manifest.json"), &manifest) {
         eprintln!("warning: {e}");
     }
     tell(&end, &children, run_dir, started, scenario_path);
-    for (_, s) in summaries {
-        eprintln!("{}", s.line);
+    for line in summary_lines {
+        eprintln!("{line}");
     }
     let names: Vec<String> = checked.programs.iter().map(|(n, _)| n.clone()).collect();
     let stopped = matches!(end, End::Failed(..) | End::Interrupted);
