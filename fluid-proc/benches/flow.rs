@@ -14,12 +14,12 @@
 //! Each entry is one run, so expect a few per cent of noise.
 
 use fluid_proc::comm::{Comm, Single};
-use fluid_proc::grid::Grid;
+use fluid_proc::incompressible::grid::Grid;
+use fluid_proc::incompressible::part::Part;
+use fluid_proc::incompressible::profile::{extremum, face_line, CAVITY_RE100_EXTREMA};
+use fluid_proc::incompressible::setup::flow_from;
+use fluid_proc::incompressible::side::{bcs, Side};
 use fluid_proc::incompressible::{FlowSetup, Incompressible, StepReport};
-use fluid_proc::part::Part;
-use fluid_proc::profile::{extremum, face_line, CAVITY_RE100_EXTREMA};
-use fluid_proc::setup::flow_from;
-use fluid_proc::side::{bcs, Side};
 use std::sync::Arc;
 use std::time::Instant;
 

@@ -1,8 +1,7 @@
 //! How fluid-proc's ranks work together (part of the binary). Rank 0 alone
 //! speaks to the coupler; it turns each command into an [`Order`],
-//! broadcasts it, and every rank obeys it together (`gas_run.rs` for the
-//! euler model, `flow_run.rs` for the incompressible one). One rank is the
-//! same code with a `Single` communicator.
+//! broadcasts it, and every rank obeys it together (the run loop,
+//! `run.rs`). One rank is the same code with a `Single` communicator.
 
 use crate::comm::Comm;
 use crate::driver::Error;
@@ -151,8 +150,10 @@ impl Stopped {
 /// fluid-proc started under `mpirun` (`[participants.fluid] ranks = N`).
 #[cfg(feature = "mpi")]
 pub fn ranks() -> Result<(), Error> {
+    use crate::euler::run::Gas;
+    use crate::incompressible::run::Flow;
     use crate::mpi_comm::MpiComm;
-    use crate::{flow_run, gas_run};
+    use crate::run::follow;
     use fluid_section::FluidModel;
     use fluid_section::Scene;
     use std::sync::Arc;
@@ -167,16 +168,11 @@ pub fn ranks() -> Result<(), Error> {
             text = joining.scenario().to_string();
             comm.broadcast_text(&mut path);
             comm.broadcast_text(&mut text);
-            match section.model {
-                FluidModel::Euler => gas_run::lead(joining, &scenario, comm.clone()),
-                FluidModel::Incompressible => {
-                    flow_run::lead(joining, &scenario, &section, comm.clone())
-                }
-                other => {
-                    let msg = format!("model = \"{}\" runs on one rank only", other.name());
-                    Err(msg.into())
-                }
+            if section.model == FluidModel::PorousFreeStream {
+                let msg = format!("model = \"{}\" runs on one rank only", section.model.name());
+                return Err(msg.into());
             }
+            crate::driver::lead(joining, &scenario, comm.clone())
         })()
     } else {
         comm.broadcast_text(&mut path);
@@ -184,9 +180,9 @@ pub fn ranks() -> Result<(), Error> {
         (|| -> Result<(), Stopped> {
             let scene = Scene::load(std::path::Path::new(&path), &text)?;
             match scene.fluid.model {
-                FluidModel::Euler => gas_run::follow(&scene, comm.clone())?,
-                FluidModel::Incompressible => flow_run::follow(&scene, comm.clone())?,
-                _ => {}
+                FluidModel::Euler => follow::<Gas>(&scene, comm.clone())?,
+                FluidModel::Incompressible => follow::<Flow>(&scene, comm.clone())?,
+                FluidModel::PorousFreeStream => {}
             }
             Ok(())
         })()

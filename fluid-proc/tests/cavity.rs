@@ -4,8 +4,10 @@
 //! tabulated points; and its extrema against the converged values of
 //! Botella & Peyret (1998).
 
-use fluid_proc::profile::{extremum, face_line, value_at, CAVITY_RE100_EXTREMA as CONVERGED};
-use fluid_proc::setup::flow_from;
+use fluid_proc::incompressible::profile::{
+    extremum, face_line, value_at, CAVITY_RE100_EXTREMA as CONVERGED,
+};
+use fluid_proc::incompressible::setup::flow_from;
 use fluid_section::flow::SideSpec;
 
 /// Ghia et al. Table I, Re = 100: (y, u) on x = 0.5.

@@ -6,9 +6,9 @@
 //!   u(y) = 6U·y(H − y)/H², so u = 1.5U on the centre line,
 //!   dp/dx = −12μU/H².
 
-use fluid_proc::grid::Grid;
+use fluid_proc::incompressible::grid::Grid;
+use fluid_proc::incompressible::side::{bcs, Side};
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
-use fluid_proc::side::{bcs, Side};
 
 const HEIGHT: f64 = 1.0;
 const SPEED: f64 = 1.0;

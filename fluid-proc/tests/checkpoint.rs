@@ -7,12 +7,12 @@
 //! viscous solvers' first guesses, the bodies' recorded forcing).
 
 use exchange::Shape;
-use fluid_proc::canopy::{porous_law, sheet_markers};
-use fluid_proc::checkpoint::{Checkpoint, History};
-use fluid_proc::grid::Grid;
-use fluid_proc::immersed::{place_markers, ImmersedBody};
+use fluid_proc::incompressible::canopy::{porous_law, sheet_markers};
+use fluid_proc::incompressible::checkpoint::{Checkpoint, History};
+use fluid_proc::incompressible::grid::Grid;
+use fluid_proc::incompressible::immersed::{place_markers, ImmersedBody};
+use fluid_proc::incompressible::side::{bcs, Side};
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
-use fluid_proc::side::{bcs, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::Isometry3;
 

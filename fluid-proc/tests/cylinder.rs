@@ -13,11 +13,11 @@
 //! c_D = 5.5795, c_L = 0.010619, Δp = 0.11752.)
 
 use exchange::Shape;
-use fluid_proc::grid::Grid;
-use fluid_proc::immersed::{place_markers, ImmersedBody, RETRACTION};
+use fluid_proc::incompressible::grid::Grid;
+use fluid_proc::incompressible::immersed::{place_markers, ImmersedBody, RETRACTION};
+use fluid_proc::incompressible::pressure_force::{pressure_load, surface_pressure};
+use fluid_proc::incompressible::side::{bcs, parabola, Side};
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
-use fluid_proc::pressure_force::{pressure_load, surface_pressure};
-use fluid_proc::side::{bcs, parabola, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::Isometry3;
 

@@ -1,4 +1,4 @@
-//! Rigid bodies as walls of the gas (`gas_bodies.rs`, dissertation §4.1),
+//! Rigid bodies as walls of the gas (`src/euler/bodies.rs`, dissertation §4.1),
 //! against exact solutions: a piston's shock, the oblique shock of a
 //! wedge, and a body at rest in gas at rest.
 

@@ -5,8 +5,8 @@
 //! space and third-order Runge–Kutta in time (dissertation §3.2.1), so with a
 //! fixed Courant number the error falls at least as h³.
 
-use fluid_proc::compressible::{Compressible, GasSetup, GasSide};
-use fluid_proc::gas::{Gas, Primitive};
+use fluid_proc::euler::gas::{Gas, Primitive};
+use fluid_proc::euler::{Compressible, GasSetup, GasSide};
 use std::f64::consts::PI;
 
 const V: [f64; 3] = [1.0, 0.5, 0.0];
@@ -98,7 +98,7 @@ fn a_window_taken_again_from_its_checkpoint_gives_the_same_cells() {
     };
     let mut gas = Compressible::new(setup(n), initial);
     gas.advance(0.05).unwrap();
-    let mut saved = fluid_proc::compressible::GasCheckpoint::default();
+    let mut saved = fluid_proc::euler::GasCheckpoint::default();
     gas.save(&mut saved);
     gas.advance(0.05).unwrap();
     let (first, time) = (gas.primitives(), gas.time);

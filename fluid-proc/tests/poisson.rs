@@ -2,8 +2,8 @@
 //! order against an exact solution, and an iteration count that stays flat
 //! as the grid is refined (multigrid-preconditioned conjugate gradients).
 
-use fluid_proc::grid::{Bc, Grid};
-use fluid_proc::poisson::Poisson;
+use fluid_proc::incompressible::grid::{Bc, Grid};
+use fluid_proc::incompressible::poisson::Poisson;
 use std::f64::consts::PI;
 
 /// A unit box of n cells per axis (nz = 1 for 2-D, periodic in z).

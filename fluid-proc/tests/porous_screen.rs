@@ -8,12 +8,12 @@
 //! uniform on either side. The jump read through the index coating
 //! (dissertation §3.3.2) must give it.
 
-use fluid_proc::canopy::{porous_law, sheet_markers};
-use fluid_proc::coating::Coating;
-use fluid_proc::grid::Grid;
-use fluid_proc::immersed::ImmersedBody;
+use fluid_proc::incompressible::canopy::{porous_law, sheet_markers};
+use fluid_proc::incompressible::coating::Coating;
+use fluid_proc::incompressible::grid::Grid;
+use fluid_proc::incompressible::immersed::ImmersedBody;
+use fluid_proc::incompressible::side::{bcs, Side};
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
-use fluid_proc::side::{bcs, Side};
 use porous::Porous;
 
 const SPEED: f64 = 1.0;

@@ -3,10 +3,10 @@
 //! (the Deliver bound of issue 6), keeps the velocities the sides impose,
 //! and projecting again changes nothing (a projection is idempotent).
 
-use fluid_proc::faces::{divergence, Faces};
-use fluid_proc::grid::{Bc, Grid};
-use fluid_proc::poisson::Poisson;
-use fluid_proc::projection::project;
+use fluid_proc::incompressible::faces::{divergence, Faces};
+use fluid_proc::incompressible::grid::{Bc, Grid};
+use fluid_proc::incompressible::poisson::Poisson;
+use fluid_proc::incompressible::projection::project;
 
 /// Uniform numbers in [−1, 1) from a fixed seed (a 64-bit LCG, Knuth's MMIX constants).
 struct Lcg(u64);

@@ -2,13 +2,13 @@
 //! run by the compressible Euler solver of dissertation §3.2.1 and checked
 //! against the exact solution of its Riemann problem (Toro, *Riemann
 //! Solvers and Numerical Methods for Fluid Dynamics*, ch. 4;
-//! `fluid_proc::riemann`), whose star state is p* = 0.30313, u* = 0.92745
+//! `fluid_proc::euler::riemann`), whose star state is p* = 0.30313, u* = 0.92745
 //! (Toro Table 4.3).
 
 mod common;
 use common::*;
-use fluid_proc::gas::{Gas, Primitive};
-use fluid_proc::riemann::Riemann;
+use fluid_proc::euler::gas::{Gas, Primitive};
+use fluid_proc::euler::riemann::Riemann;
 
 /// The tube's two gases and where they meet.
 const SPLIT: f64 = 0.5;

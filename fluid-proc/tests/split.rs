@@ -15,13 +15,13 @@
 //! kernel straddles two slabs being a sum over the ranks: round-off again.
 
 use exchange::Shape;
-use fluid_proc::canopy::sheet_markers;
 use fluid_proc::comm::Comm;
-use fluid_proc::grid::Grid;
-use fluid_proc::immersed::{place_markers, ImmersedBody};
+use fluid_proc::incompressible::canopy::sheet_markers;
+use fluid_proc::incompressible::grid::Grid;
+use fluid_proc::incompressible::immersed::{place_markers, ImmersedBody};
+use fluid_proc::incompressible::part::Part;
+use fluid_proc::incompressible::side::{bcs, Side};
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
-use fluid_proc::part::Part;
-use fluid_proc::side::{bcs, Side};
 use fluid_proc::surface::Surface;
 use nalgebra::{Isometry3, Vector3};
 use std::collections::{HashMap, VecDeque};

@@ -7,9 +7,9 @@
 //! in space and time: refining h and Δt together (fixed Courant number),
 //! the velocity and pressure errors fall 4-fold per halving.
 
-use fluid_proc::grid::{Bc, Grid};
+use fluid_proc::incompressible::grid::{Bc, Grid};
+use fluid_proc::incompressible::side::Side;
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
-use fluid_proc::side::Side;
 use std::f64::consts::PI;
 
 const NU: f64 = 0.05;

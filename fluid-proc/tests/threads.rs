@@ -8,9 +8,9 @@
 //! promises: discretely divergence-free (dissertation eq. 3.19) to the
 //! pressure solve's tolerance.
 
-use fluid_proc::grid::Grid;
+use fluid_proc::incompressible::grid::Grid;
+use fluid_proc::incompressible::side::{bcs, Side};
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
-use fluid_proc::side::{bcs, Side};
 
 /// A lid-driven box of 24 × 20 × 18 cells (lid 1 m/s, ν = 0.01 m²/s), from
 /// a swirl that fills it, after five steps at Courant number 0.4 on

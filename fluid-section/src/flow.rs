@@ -25,7 +25,7 @@ pub const HALO_CELLS: u32 = 3;
 
 /// Fewest cells a rank's slab of the gas may have when bodies stand in
 /// it, on cells of equal spacings: the reach of a ghost cell's image point
-/// (fluid-proc's `gas_bodies.rs`): a ghost lies at most 3 cells inside the
+/// (fluid-proc's `euler/bodies.rs`): a ghost lies at most 3 cells inside the
 /// wall (within WENO5's reach of a gas cell), its image point as far again
 /// outside (at least 1.5 cells), and the image's stencil one cell further.
 pub const BODY_HALO_CELLS: u32 = 7;

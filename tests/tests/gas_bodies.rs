@@ -1,5 +1,5 @@
 //! Rigid bodies in the compressible gas through the coupler (`fluid-proc`'s
-//! `gas_bodies.rs`): rigid-proc sends the poses, fluid-proc holds the gas
+//! `euler/bodies.rs`): rigid-proc sends the poses, fluid-proc holds the gas
 //! to them with ghost cells and sends back the pressure load. The shock
 //! that lifts a cylinder off a channel's floor (`scenarios/cylinder-liftoff.toml`).
 

@@ -4,9 +4,9 @@
 #![allow(dead_code)]
 
 use fluid_proc::comm::Single;
-use fluid_proc::compressible::Compressible;
-use fluid_proc::gas::Primitive;
-use fluid_proc::setup::gas_scene;
+use fluid_proc::euler::gas::Primitive;
+use fluid_proc::euler::setup::gas_scene;
+use fluid_proc::euler::Compressible;
 use fluid_section::Scene;
 use std::sync::Arc;
 

@@ -1,0 +1,273 @@
+//! Geometric multigrid for A φ = b (`laplacian.rs`): one V-cycle is the
+//! preconditioner of the conjugate-gradient solve (`poisson.rs`), which keeps
+//! the iteration count flat as the grid is refined, so the pressure solve
+//! costs O(cells).
+//!
+//! Cell-centred coarsening halves every axis that can; restriction averages
+//! the children, prolongation copies the parent to them (R = Pᵀ/2^d), and the
+//! coarse operators are rediscretised. Symmetric red–black Gauss–Seidel
+//! (red then black before the coarse correction, black then red after) keeps
+//! the V-cycle symmetric, as conjugate gradients need.
+//!
+//! Split among ranks (`part.rs`), each rank smooths its slab of each level,
+//! its halo swapped before every sweep, as long as the slabs halve with the
+//! grid. At the last level (the coarsest, or the first whose slabs cannot
+//! halve again: the next level's cells would straddle two ranks), rank 0
+//! gathers the level and runs the rest of the cycle on the whole of it: the
+//! same cycle as on one rank. Slab bounds that are not even (32 cells on 3
+//! ranks) gather the finest level itself, and the preconditioner then runs
+//! on rank 0 alone: correct, but slow.
+//!
+//! On a periodic slab axis of an odd number of cells the first and last
+//! cells have one colour, so one rank's sweep reads the other's new value
+//! where split ranks read its old one: the fields then agree to the solve's
+//! tolerance rather than to round-off.
+
+use crate::incompressible::grid::Grid;
+use crate::incompressible::laplacian::Stencil;
+use crate::incompressible::part::{Halo, Part};
+use crate::incompressible::rows;
+
+/// Smoothing sweeps before and after the coarse correction.
+const SWEEPS: usize = 2;
+/// The coarsest level has at most this many cells…
+const COARSEST_CELLS: usize = 64;
+/// …and is solved by this many symmetric sweeps.
+const COARSEST_SWEEPS: usize = 40;
+
+struct Level {
+    part: Part,
+    halo: Halo,
+    stencil: Stencil,
+    /// Right-hand side, solution and residual of this level's correction.
+    b: Vec<f64>,
+    x: Vec<f64>,
+    r: Vec<f64>,
+    /// Parent cell on the next coarser level.
+    parent: Vec<usize>,
+    /// Each coarser cell's children on this level, ascending: those of
+    /// cell p are `kids[first_kid[p]..first_kid[p + 1]]`.
+    first_kid: Vec<usize>,
+    kids: Vec<usize>,
+    /// Children per coarse cell (2^axes halved).
+    children: f64,
+}
+
+pub struct Multigrid {
+    /// This rank's slab of each level it smooths.
+    levels: Vec<Level>,
+    /// No Dirichlet side: A is singular and every level works mean-free.
+    singular: bool,
+    /// Split among ranks: what the last level is solved with.
+    rest: Option<Rest>,
+}
+
+/// The last level of a split multigrid, whole.
+struct Rest {
+    /// Its correction, from rank 0.
+    whole: Vec<f64>,
+    /// The cycle from it on one rank (on rank 0; None on the others).
+    serial: Option<Box<Multigrid>>,
+}
+
+impl Multigrid {
+    /// On a whole box, one rank.
+    pub fn new(fine: &Grid) -> Multigrid {
+        Multigrid::on(
+            fine,
+            &Part::whole(fine.n, [[crate::incompressible::side::Side::WALL; 2]; 3]),
+        )
+    }
+
+    /// On this rank's `part` of the box `fine` (the whole box's grid).
+    pub fn on(fine: &Grid, part: &Part) -> Multigrid {
+        let mut grids = vec![fine.clone()];
+        let mut parts = vec![part.clone()];
+        while grids.last().unwrap().cells() > COARSEST_CELLS {
+            let Some(g) = grids.last().unwrap().coarsened() else {
+                break;
+            };
+            let Some(p) = parts.last().unwrap().coarsened(g.n) else {
+                break;
+            };
+            grids.push(g);
+            parts.push(p);
+        }
+        let rest = part.split().then(|| {
+            let last = grids.last().unwrap();
+            Rest {
+                whole: vec![0.0; last.cells()],
+                serial: (part.comm.rank() == 0).then(|| Box::new(Multigrid::new(last))),
+            }
+        });
+        let locals: Vec<Grid> = grids
+            .iter()
+            .zip(&parts)
+            .map(|(g, p)| {
+                if p.split() {
+                    p.local_grid(g)
+                } else {
+                    g.clone()
+                }
+            })
+            .collect();
+        let levels = locals
+            .iter()
+            .zip(parts)
+            .enumerate()
+            .map(|(l, (g, part))| {
+                let cells = g.cells();
+                let (parent, children) = match locals.get(l + 1) {
+                    Some(c) => {
+                        let ratio: Vec<usize> = (0..3).map(|d| g.n[d] / c.n[d]).collect();
+                        let parent = (0..cells)
+                            .map(|i| {
+                                let f = g.coords(i);
+                                c.index([f[0] / ratio[0], f[1] / ratio[1], f[2] / ratio[2]])
+                            })
+                            .collect();
+                        (parent, ratio.iter().product::<usize>() as f64)
+                    }
+                    None => (Vec::new(), 1.0),
+                };
+                let coarse_cells = locals.get(l + 1).map_or(0, |c| c.cells());
+                let (first_kid, kids) = children_of(&parent, coarse_cells);
+                Level {
+                    stencil: Stencil::on(g, part.slab.lo),
+                    halo: Halo::default(),
+                    part,
+                    b: vec![0.0; cells],
+                    x: vec![0.0; cells],
+                    r: vec![0.0; cells],
+                    parent,
+                    first_kid,
+                    kids,
+                    children,
+                }
+            })
+            .collect();
+        Multigrid {
+            levels,
+            singular: !fine.has_dirichlet(),
+            rest,
+        }
+    }
+
+    /// out = A x on the finest level, x's halo swapped first.
+    pub fn apply(&mut self, x: &[f64], out: &mut [f64]) {
+        let f = &mut self.levels[0];
+        f.part.fill_halo(x, &mut f.halo);
+        f.stencil.apply(x, &f.halo, out);
+    }
+
+    /// Number of levels, the finest included.
+    pub fn depth(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// z = M⁻¹ r: one V-cycle from a zero guess.
+    pub fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+        rows::copy(&mut self.levels[0].b, r);
+        self.cycle(0);
+        rows::copy(z, &self.levels[0].x);
+        if self.singular {
+            remove_mean(z, &self.levels[0].part);
+        }
+    }
+
+    fn cycle(&mut self, l: usize) {
+        let last = l + 1 == self.levels.len();
+        let level = &mut self.levels[l];
+        rows::for_each(&mut level.x, |x, _| *x = 0.0);
+        if let (true, Some(rest)) = (last, &mut self.rest) {
+            // Rank 0 runs the cycle on the whole level; each takes its slab.
+            let part = &level.part;
+            let whole = &mut rest.whole;
+            if let (Some(b), Some(serial)) = (part.gather(&level.b), &mut rest.serial) {
+                serial.levels[0].b.copy_from_slice(&b);
+                serial.cycle(0);
+                whole.copy_from_slice(&serial.levels[0].x);
+            }
+            part.comm.broadcast(whole);
+            let plane = whole.len() / part.slab.n[part.slab.axis];
+            level
+                .x
+                .copy_from_slice(&whole[part.slab.lo * plane..part.slab.hi * plane]);
+            return;
+        }
+        if last {
+            for _ in 0..COARSEST_SWEEPS {
+                sweep(level, 0);
+                sweep(level, 1);
+                sweep(level, 1);
+                sweep(level, 0);
+            }
+            if self.singular {
+                remove_mean(&mut level.x, &level.part);
+            }
+            return;
+        }
+        for _ in 0..SWEEPS {
+            sweep(level, 0);
+            sweep(level, 1);
+        }
+        level.part.fill_halo(&level.x, &mut level.halo);
+        level.stencil.apply(&level.x, &level.halo, &mut level.r);
+        let b = &level.b;
+        rows::for_each(&mut level.r, |r, i| *r = b[i] - *r);
+        let (fine, coarse) = self.levels.split_at_mut(l + 1);
+        let (f, c) = (&mut fine[l], &mut coarse[0]);
+        // Restriction: each coarse cell sums its children in ascending order.
+        rows::for_each(&mut c.b, |b, p| {
+            *b = 0.0;
+            for &i in &f.kids[f.first_kid[p]..f.first_kid[p + 1]] {
+                *b += f.r[i] / f.children;
+            }
+        });
+        self.cycle(l + 1);
+        let (fine, coarse) = self.levels.split_at_mut(l + 1);
+        let (f, c) = (&mut fine[l], &coarse[0]);
+        let parent = &f.parent;
+        rows::for_each(&mut f.x, |x, i| *x += c.x[parent[i]]);
+        for _ in 0..SWEEPS {
+            sweep(f, 1);
+            sweep(f, 0);
+        }
+    }
+}
+
+/// One colour's sweep, the other colour's values beyond the slab swapped in
+/// first (a cell's neighbours are all of the other colour).
+fn sweep(level: &mut Level, colour: usize) {
+    level.part.fill_halo(&level.x, &mut level.halo);
+    level
+        .stencil
+        .gauss_seidel(&level.b, &mut level.x, &level.halo, colour);
+}
+
+/// Takes the mean over the whole box (all of `part`'s ranks) from `x`.
+pub fn remove_mean(x: &mut [f64], part: &Part) {
+    let count = part.slab.n.iter().product::<usize>() as f64;
+    // The sum on one thread, in the cells' order (`rows.rs` says why).
+    let mean = part.sum(x.iter().sum::<f64>()) / count;
+    rows::for_each(x, |v, _| *v -= mean);
+}
+
+/// The children of each of `coarse` cells from the fine cells' parents, as
+/// (first child per cell and one past the last, children ascending).
+fn children_of(parent: &[usize], coarse: usize) -> (Vec<usize>, Vec<usize>) {
+    let mut first = vec![0; coarse + 1];
+    for &p in parent {
+        first[p + 1] += 1;
+    }
+    for p in 0..coarse {
+        first[p + 1] += first[p];
+    }
+    let mut next = first.clone();
+    let mut kids = vec![0; parent.len()];
+    for (i, &p) in parent.iter().enumerate() {
+        kids[next[p]] = i;
+        next[p] += 1;
+    }
+    (first, kids)
+}

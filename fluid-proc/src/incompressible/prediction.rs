@@ -1,0 +1,103 @@
+//! A window's predicted velocity, kept for the window's later tries under
+//! implicit coupling.
+//!
+//! Step 1 of the projection method (`mod.rs`), the predicted
+//! change δ = u* − uⁿ from the advection term Nⁿ, the viscous solves and
+//! the last pressure's gradient, reads the window's start alone. The
+//! interface enters after it: the canopy's and bodies' markers in the
+//! forcing, the canopy's velocity in the frame's acceleration, both in the
+//! projection. A try after the first starts from the same state, so it can
+//! take the first try's Nⁿ and δ instead of computing them again (the
+//! advection and the three Helmholtz solves, about 40 % of a step on the
+//! C-9). It does so only after checking, bit for bit, that it reads what
+//! the first try read: the velocities, the pressure, the step history (the
+//! last advection term and the solves' first guess), the two step lengths,
+//! and the sides' values. A kept prediction therefore gives the very bits a
+//! fresh one would.
+
+use crate::incompressible::faces::Faces;
+use crate::incompressible::side::Sides;
+
+/// What step 1 reads beyond the constant grid and viscosity, in place.
+pub struct State<'a> {
+    pub dt: f64,
+    pub last_dt: Option<f64>,
+    pub sides: &'a Sides,
+    pub u: &'a Faces,
+    pub q: &'a [f64],
+    /// Per component, the history it starts from: Nⁿ⁻¹ and the viscous
+    /// solve's first guess (empty for a component not advanced).
+    pub history: [(&'a [f64], &'a [f64]); 3],
+}
+
+/// A [`State`] kept: what a kept prediction was computed from.
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    dt: f64,
+    last_dt: Option<f64>,
+    sides: Sides,
+    u: Faces,
+    q: Vec<f64>,
+    history: [(Vec<f64>, Vec<f64>); 3],
+}
+
+impl Inputs {
+    /// A copy of `state`, taken before anything is computed from it.
+    pub fn of(state: &State) -> Inputs {
+        Inputs {
+            dt: state.dt,
+            last_dt: state.last_dt,
+            sides: *state.sides,
+            u: state.u.clone(),
+            q: state.q.to_vec(),
+            history: state.history.map(|(n, g)| (n.to_vec(), g.to_vec())),
+        }
+    }
+
+    /// Whether `state` holds the same bits as `self`.
+    fn same(&self, state: &State) -> bool {
+        let history = |(a, b): (&(Vec<f64>, Vec<f64>), &(&[f64], &[f64]))| {
+            same_bits(&a.0, b.0) && same_bits(&a.1, b.1)
+        };
+        // The cheap checks first; the first differing value ends a scan.
+        self.dt.to_bits() == state.dt.to_bits()
+            && self.last_dt.map(f64::to_bits) == state.last_dt.map(f64::to_bits)
+            && self.sides == *state.sides
+            && self.u.n == state.u.n
+            && same_bits(&self.q, state.q)
+            && (0..3).all(|c| same_bits(&self.u.u[c], &state.u.u[c]))
+            && self.history.iter().zip(&state.history).all(history)
+    }
+}
+
+/// The window's first prediction and what it was computed from.
+#[derive(Debug, Clone, Default)]
+pub struct Prediction {
+    from: Option<Inputs>,
+    /// Per component: Nⁿ and δ (padded, as `Work` holds them).
+    pub kept: [(Vec<f64>, Vec<f64>); 3],
+    pub viscous_iterations: usize,
+}
+
+impl Prediction {
+    /// Whether the kept prediction was computed from `state`.
+    pub fn holds_for(&self, state: &State) -> bool {
+        self.from.as_ref().is_some_and(|f| f.same(state))
+    }
+
+    /// Nothing kept: the next prediction is computed.
+    pub fn forget(&mut self) {
+        self.from = None;
+    }
+
+    /// `inputs` are what [`Prediction::kept`] and the iterations, which
+    /// the caller has just filled, were computed from.
+    pub fn computed_from(&mut self, inputs: Inputs) {
+        self.from = Some(inputs);
+    }
+}
+
+/// Whether `a` and `b` hold the same bits (−0 is not +0, a NaN is itself).
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
