@@ -175,7 +175,7 @@ pub fn variant(name: &str, dir: &Path, change: impl FnOnce(&mut Scenario)) -> Pa
 /// `scenarios/cloth-strings.toml` on the coarser mesh the CI runs (10
 /// rings, 20 segments a string, 10 structure sub-steps a window).
 pub fn coarse_cloth_strings(s: &mut Scenario) {
-    s.coupling.structure_substeps = 10;
+    s.structure_mut().substeps = 10;
     let st = s.structure.as_mut().expect("cloth-strings has a structure");
     st.disk.as_mut().expect("cloth-strings has a disk").rings = 10;
     st.cords[0].segments = 20;

@@ -39,6 +39,11 @@ impl Scenario {
         })
     }
 
+    /// The scene's `[structure]`, to change (panics without one).
+    pub fn structure_mut(&mut self) -> &mut StructureSection {
+        self.structure.as_mut().expect("a [structure] section")
+    }
+
     /// The scene's `[structure.parachute]` (panics without one).
     pub fn parachute(&self) -> &Parachute {
         let s = self.structure.as_ref().expect("a [structure] section");

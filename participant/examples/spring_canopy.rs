@@ -12,6 +12,7 @@ type V3 = [f64; 3];
 #[derive(serde::Deserialize)]
 struct Structure {
     gravity: V3,
+    substeps: u32,          // sub-steps a window: a structure's own clock
     steps_per_substep: u32, // this solver's own key
     annulus: Annulus,
 }
@@ -36,6 +37,7 @@ fn load(name: &str, path: &Path, text: &str) -> Result<Structure, ScenarioError>
         .ok_or_else(|| section::missing(path, name, "spring_canopy"))?;
     section::checked(path, text, |c| {
         c.within(name, None, |c| {
+            c.nonzero(&["substeps"], s.substeps as f64);
             c.nonzero(&["steps_per_substep"], s.steps_per_substep as f64);
             c.positive(&["annulus", "fabric", "stiffness"], s.annulus.fabric.stiffness, "N/m");
         })
@@ -128,7 +130,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let tris = &net.tris;
     let mut p = joining.declare(
-        Declaration::new(Cadence::PerWindow { substeps: timing.structure_substeps })
+        Declaration::new(Cadence::PerWindow { substeps: s.substeps })
             .writes("canopy.triangles", 3, tris.len())
             .writes("canopy.positions", 3, n)
             .writes("canopy.velocities", 3, n)
@@ -181,5 +183,5 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Command::Stop => break,
         }
     }
-    Ok(p.finish(timing.windows() * u64::from(timing.structure_substeps * s.steps_per_substep))?)
+    Ok(p.finish(timing.windows() * u64::from(s.substeps * s.steps_per_substep))?)
 }

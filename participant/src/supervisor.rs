@@ -9,6 +9,7 @@ use crate::channel::{self, BytesIn, BytesOut, ChannelError, Ipc};
 use crate::declaration::Declaration;
 use crate::matching::connect_fields;
 use crate::names;
+use crate::timing::Cadence;
 use crate::wire::{FromParticipant, ToParticipant};
 use iceoryx2::node::Node;
 use iceoryx2::port::listener::Listener;
@@ -299,6 +300,7 @@ impl Supervisor {
                  `restarts()`): remove checkpoint_interval",
             ),
         ];
+        self.refuse_uneven_impulses(setup, declarations)?;
         for (wanted, offers, message) in needs {
             let unable: Vec<&str> = (self.names.iter().zip(declarations))
                 .filter(|(_, d)| !offers(d))
@@ -310,6 +312,35 @@ impl Supervisor {
             }
         }
         Ok(())
+    }
+
+    /// A participant stepping per impulse sub-step beside another takes its
+    /// sub-steps n_i at a time: refused where n_i does not divide them.
+    fn refuse_uneven_impulses(
+        &self,
+        setup: &Setup,
+        declarations: &[Declaration],
+    ) -> Result<(), SuperviseError> {
+        let per_impulse = |d: &Declaration| match d.cadence {
+            Cadence::PerImpulse {
+                substeps_per_window,
+            } => Some(substeps_per_window),
+            Cadence::PerWindow { .. } => None,
+        };
+        let n_i = setup.timing.impulse_substeps.max(1);
+        if declarations.iter().filter_map(per_impulse).count() < 2 {
+            return Ok(());
+        }
+        let uneven = (self.names.iter().zip(declarations))
+            .find_map(|(name, d)| per_impulse(d).filter(|n| n % n_i != 0).map(|n| (name, n)));
+        match uneven {
+            Some((name, n)) => Err(SuperviseError::Mismatch(format!(
+                "`{name}` declares {n} sub-steps a window, which [coupling] impulse_substeps = \
+                 {n_i} does not divide: between two impulse exchanges it takes a whole \
+                 number of its sub-steps (declare a multiple of {n_i})"
+            ))),
+            None => Ok(()),
+        }
     }
 
     /// Connect the declared fields, wait until every participant has opened

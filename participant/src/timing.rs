@@ -21,9 +21,9 @@ pub struct Timing {
     pub window: f64,
     /// Simulated time between outputs [s]; 0 writes the first and last state only.
     pub output_interval: f64,
-    /// Structure sub-steps n_s per window (`[coupling] structure_substeps`).
-    pub structure_substeps: u32,
     /// Impulse exchanges n_i per window (`[coupling] impulse_substeps`).
+    /// The sub-steps each participant takes a window are its own, in its
+    /// declared [`Cadence`].
     pub impulse_substeps: u32,
     /// Seconds a participant may wait for a field (or the coupler for an answer).
     pub timeout: f64,
@@ -428,7 +428,6 @@ mod tests {
             end_time,
             window: 1e-3,
             output_interval,
-            structure_substeps: 6,
             impulse_substeps: 3,
             timeout: 1.0,
             checkpoint_interval: 0.0,

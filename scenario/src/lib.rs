@@ -73,10 +73,9 @@ pub struct RunSection {
 pub struct CouplingSection {
     /// FSI window = one fluid step Δt_f [s].
     pub window: f64,
-    /// Structure sub-steps n_s per window (Δt_s = Δt_f / n_s).
-    #[serde(default = "one")]
-    pub structure_substeps: u32,
-    /// Impulse exchanges between structure and rigid bodies per window; must divide n_s.
+    /// Impulse exchanges between structure and rigid bodies per window; it
+    /// must divide the sub-steps each of them takes a window (the
+    /// structure's `[structure] substeps`).
     #[serde(default = "one")]
     pub impulse_substeps: u32,
     /// Seconds a participant may take to answer one command before the run is failed.
@@ -117,11 +116,6 @@ impl CouplingSection {
     pub fn bodies_iterate(&self) -> bool {
         self.scheme.is_implicit() && self.impulse_substeps == 1
     }
-
-    /// The structure step Δt_s = Δt_f / n_s [s].
-    pub fn structure_dt(&self) -> f64 {
-        self.window / self.structure_substeps as f64
-    }
 }
 
 fn one() -> u32 {
@@ -129,6 +123,29 @@ fn one() -> u32 {
 }
 fn default_timeout() -> f64 {
     60.0
+}
+
+/// Keys of the coupling sections that a solver's own table took over, and
+/// where each went: a scenario written before gets told where to write it.
+const MOVED: [(&str, &str, &str); 1] = [(
+    "coupling",
+    "structure_substeps",
+    "the structure's sub-steps are the structure's own setting now: write \
+     `substeps = N` in its table ([structure] for structure-proc and xpbd-proc)",
+)];
+
+/// Refuses a key of [`MOVED`], naming where it went.
+fn refuse_moved(path: &Path, text: &str) -> Result<(), ScenarioError> {
+    for (table, key, went) in MOVED {
+        let Some(t) = section::read::<toml::Table>(path, text, table)? else {
+            continue;
+        };
+        if t.contains_key(key) {
+            let message = format!("`{key}` is no longer a key of [{table}]: {went}");
+            return Err(ScenarioError::at_key(path, text, &[table, key], message));
+        }
+    }
+    Ok(())
 }
 
 /// canopy's own participants, in the order they start and their monitors'
@@ -233,6 +250,7 @@ impl Scenario {
             key: Some(name.to_string()),
             message: format!("the scenario has no [{name}] table"),
         };
+        refuse_moved(path, text)?;
         let scenario = Scenario {
             run: section::read(path, text, "run")?.ok_or_else(|| missing("run"))?,
             coupling: section::read(path, text, "coupling")?.ok_or_else(|| missing("coupling"))?,
@@ -333,30 +351,12 @@ impl Scenario {
         }
         self.check_clock(c);
         c.at_most(
-            &["coupling", "structure_substeps"],
-            k.structure_substeps as f64,
-            MAX_SUBSTEPS,
-        );
-        c.at_most(
             &["coupling", "impulse_substeps"],
             k.impulse_substeps as f64,
             MAX_SUBSTEPS,
         );
         c.at_most(&["coupling", "timeout"], k.timeout, MAX_TIMEOUT);
-        c.nonzero(
-            &["coupling", "structure_substeps"],
-            k.structure_substeps as f64,
-        );
         c.nonzero(&["coupling", "impulse_substeps"], k.impulse_substeps as f64);
-        if k.impulse_substeps > 0 && !k.structure_substeps.is_multiple_of(k.impulse_substeps) {
-            c.problem(
-                &["coupling", "impulse_substeps"],
-                format!(
-                    "impulse_substeps = {} must divide structure_substeps = {}",
-                    k.impulse_substeps, k.structure_substeps
-                ),
-            );
-        }
         c.positive(&["coupling", "timeout"], k.timeout, "s");
         match (&k.implicit, k.scheme) {
             (Some(_), SchemeName::Explicit) => c.problem(

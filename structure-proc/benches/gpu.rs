@@ -101,7 +101,7 @@ fn preset(name: &str) -> (Model, Scene) {
     let path = format!("{}/../scenarios/{name}.toml", env!("CARGO_MANIFEST_DIR"));
     let mut scene =
         Scene::load_file(std::path::Path::new(&path), "structure-proc").expect("shipped scene");
-    let dt = scene.scenario.coupling.structure_dt();
+    let dt = scene.structure.dt(scene.scenario.coupling.window);
     scene.structure.integrator = Integrator::Rk4;
     let build = |scene: &Scene| {
         build_model(&scene.structure, scene.rigid.as_ref(), dt).expect("preset builds")
@@ -171,7 +171,7 @@ fn table_5_2(gpu: bool) {
         ("T-11", "t11-descent"),
     ] {
         let (m, scene) = preset(name);
-        let dt = scene.scenario.coupling.structure_dt();
+        let dt = scene.structure.dt(scene.scenario.coupling.window);
         let jump = vec![TABLE_JUMP; m.triangles.len()];
         let mut cpu = CpuStepper::of(&scene.structure);
         let one = preset_step(&m, &mut cpu, dt, &jump, 1, 5);

@@ -39,9 +39,8 @@ fn section() -> structure_section::Scene {
 
 fn scene() -> (Model, Scheme, f64, u32) {
     let s = section();
-    let coupling = &s.scenario.coupling;
-    let n = coupling.structure_substeps;
-    let h = coupling.window / n as f64;
+    let n = s.structure.substeps;
+    let h = s.structure.dt(s.scenario.coupling.window);
     let m = build_model(&s.structure, None, h).expect("the C-9 builds");
     (m, Scheme::of(&s.structure), h, n)
 }

@@ -25,7 +25,7 @@ pub fn answer<S: Stepper>(
 ) -> Result<Answer, ScenarioError> {
     let scene = Scene::load(path, text, program)?;
     let section = &scene.structure;
-    let dt = scene.scenario.coupling.structure_dt();
+    let dt = scene.structure.dt(scene.scenario.coupling.window);
     let built = build_model(section, scene.rigid.as_ref(), dt).map(|m| {
         let stepper = make(section, &m);
         (m, stepper)
@@ -44,6 +44,15 @@ pub fn answer<S: Stepper>(
     answer
         .manifest
         .insert("integrator".into(), section.integrator.name().into());
+    // The structure's own clock within the coupler's windows.
+    let n_s = section.substeps;
+    answer
+        .notes
+        .push(format!("sub-steps n_s = {n_s} a window (Δt_s = {dt:e} s)"));
+    answer
+        .manifest
+        .insert("substeps".into(), i64::from(n_s).into());
+    answer.manifest.insert("dt_s".into(), dt.into());
     let estimated = built
         .map_err(Error::from)
         .and_then(|(m, stepper)| scheme_omega_max(&scene, path, text, &m, stepper?));
@@ -70,7 +79,7 @@ pub fn answer<S: Stepper>(
     answer.notes.push(note(&est, section, name));
     answer
         .warnings
-        .extend(warning(&est, c.window, c.structure_substeps, name));
+        .extend(warning(&est, c.window, section.substeps, name));
     answer
         .manifest
         .insert("stability".into(), manifest(&est).into());
@@ -88,7 +97,7 @@ fn scheme_omega_max<S: Stepper>(
     stepper: S,
 ) -> Result<((f64, DampingRate), f64, Option<String>), Error> {
     let section = &scene.structure;
-    let dt = scene.scenario.coupling.structure_dt();
+    let dt = scene.structure.dt(scene.scenario.coupling.window);
     let layer = layer_warning(section, m);
     let weights = attachment_weights(scene, path, text)?;
     let nodes: Vec<usize> = m.attachments.iter().map(|a| a.node).collect();
@@ -173,7 +182,7 @@ fn attached_answer(answer: &mut Answer, omega: f64, c: &scenario::CouplingSectio
         answer.warnings.push(format!(
             "the impulse sub-step Δt_i = {dt:e} s is above {limit:.3e} s, where a body's exchange \
              with its strings is sure to be stable (ω·Δt_i = {:.3} with ω = {omega:.4e} rad/s); \
-             impulse_substeps = {needed} or more (with structure_substeps a multiple) guarantees it",
+             impulse_substeps = {needed} or more (with [structure] substeps a multiple) guarantees it",
             omega * dt
         ));
     }

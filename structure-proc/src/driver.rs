@@ -176,7 +176,7 @@ pub fn run<S: Stepper>(
     let mut m = build_model(
         section,
         scene.rigid.as_ref(),
-        scene.scenario.coupling.structure_dt(),
+        scene.structure.dt(scene.scenario.coupling.window),
     )?;
     // The air the drag refers to: a fluid process sends the canopy's
     // pressure (a structure's own porous load is not a monitor's).
@@ -198,7 +198,7 @@ pub fn run<S: Stepper>(
         .then(|| omega_max(&m.inv_mass, &m.couplings));
     let stats = contacts.as_ref().map(|c| &c.stats);
     let first = monitors(&m, omega_max, obstacles.as_ref(), stats, None);
-    let n_s = scene.scenario.coupling.structure_substeps;
+    let n_s = section.substeps;
     let mut p = joining.declare(declaration(&m, obstacles.as_ref(), &first, n_s))?;
     let mut d = Driven {
         output: Output::new(p.run_dir(), &m),

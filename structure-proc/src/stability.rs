@@ -146,7 +146,7 @@ pub fn warning(est: &Estimate, window: f64, substeps: u32, integrator: &str) -> 
             format!(
                 "the structure step Δt_s = {dt:e} s is above {limit:.3e} s, the step {integrator} \
                  is sure to be stable at (ω_max·Δt_s = {y:.3} with ω_max = {:.4e} rad/s, the dissertation \
-                 eq. 3.7's upper bound); structure_substeps = {} or more guarantees it",
+                 eq. 3.7's upper bound); [structure] substeps = {} or more guarantees it",
                 est.omega_max, est.n_s
             )
         }),
@@ -154,7 +154,7 @@ pub fn warning(est: &Estimate, window: f64, substeps: u32, integrator: &str) -> 
             format!(
                 "{integrator} gains energy at every step on undamped oscillation, and \
                  ω_max·Δt_s = {y:.3} (ω_max = {:.4e} rad/s, dissertation eq. 3.7) is above the dissertation's 0.1; \
-                 structure_substeps = {} or more keeps ω_max·Δt_s < 0.1",
+                 [structure] substeps = {} or more keeps ω_max·Δt_s < 0.1",
                 est.omega_max, est.n_s_seed
             )
         }),

@@ -276,7 +276,7 @@ fn the_device_steps_every_parachute_preset_as_the_cpu_does() {
         let scene = Scene::load_file(std::path::Path::new(&path), "structure-proc").unwrap();
         let mut s = scene.structure.clone();
         s.integrator = CpuScheme::VelocityVerlet;
-        let dt = scene.scenario.coupling.structure_dt();
+        let dt = scene.structure.dt(scene.scenario.coupling.window);
         let m = build_model(&s, scene.rigid.as_ref(), dt).unwrap();
         assert!(
             m.parachute.is_some() && !m.membrane.is_empty(),
@@ -341,7 +341,7 @@ fn the_device_follows_a_release_and_a_line_break() {
     let scene = Scene::load_file(std::path::Path::new(&path), "structure-proc").unwrap();
     let mut s = scene.structure.clone();
     s.integrator = CpuScheme::VelocityVerlet;
-    let dt = scene.scenario.coupling.structure_dt();
+    let dt = scene.structure.dt(scene.scenario.coupling.window);
     let m = build_model(&s, None, dt).unwrap();
     assert!(m.held() && !m.lines.is_empty(), "a held payload on lines");
     let run = |stepper: &mut dyn Stepper| {

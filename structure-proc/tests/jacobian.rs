@@ -104,7 +104,7 @@ fn the_blocks_apply_the_jacobian_product_of_every_element() {
 fn backward_euler_is_the_same_by_every_linear_solver() {
     let s = scene("cloth-hanging");
     assert_eq!(s.structure.integrator, Integrator::BackwardEuler);
-    let dt = s.scenario.coupling.structure_dt();
+    let dt = s.structure.dt(s.scenario.coupling.window);
     same_by_every_linear_solver(&s.structure, dt, 20);
 }
 

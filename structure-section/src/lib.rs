@@ -26,6 +26,12 @@ pub use sheets::{Cords, Disk};
 #[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StructureSection {
+    /// Structure sub-steps n_s per coupling window: Δt_s = Δt_f / n_s,
+    /// with Δt_f the `[coupling] window`. With rigid bodies it is a
+    /// multiple of `[coupling] impulse_substeps`; `coupler check` prints
+    /// how many the integrator needs to be stable (dissertation eq. 3.7).
+    #[serde(default = "one")]
+    pub substeps: u32,
     #[serde(default)]
     pub integrator: Integrator,
     /// Where the steps run: the CPU, or a GPU through wgpu (`structure-gpu`).
@@ -83,6 +89,10 @@ pub struct StructureSection {
     /// Free nodes against the rigid bodies' shapes (dissertation §2.5, §3.4).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub collision: Option<Collision>,
+}
+
+fn one() -> u32 {
+    1
 }
 
 /// Where the structure's steps run.
@@ -303,6 +313,11 @@ pub struct SpringSpec {
 }
 
 impl StructureSection {
+    /// The structure's step Δt_s = Δt_f / n_s [s] in a coupling `window` Δt_f [s].
+    pub fn dt(&self, window: f64) -> f64 {
+        window / self.substeps as f64
+    }
+
     /// The rigid body of every attachment point, in the order structure
     /// solvers number them and exchange their state and impulses: the
     /// parachute's confluence first, then the strings of `[[structure.strings]]`.
@@ -360,6 +375,8 @@ impl StructureSection {
 
     pub fn check(&self, c: &mut Checker, rigid: Option<&RigidSection>) {
         c.within("structure", None, |c| {
+            c.nonzero(&["substeps"], self.substeps as f64);
+            c.at_most(&["substeps"], self.substeps as f64, scenario::MAX_SUBSTEPS);
             c.finite3(&["gravity"], self.gravity);
             let surfaces = self.annulus.is_some() as u8
                 + self.parachute.is_some() as u8

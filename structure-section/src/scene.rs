@@ -67,6 +67,17 @@ impl Scene {
             );
         }
         s.check(c, self.rigid.as_ref());
+        let n_i = self.scenario.coupling.impulse_substeps;
+        if n_i > 0 && !s.substeps.is_multiple_of(n_i) {
+            c.problem(
+                &["structure", "substeps"],
+                format!(
+                    "substeps = {} is not a multiple of [coupling] impulse_substeps = {n_i}: \
+                     each impulse exchange comes after a whole number of structure sub-steps",
+                    s.substeps
+                ),
+            );
+        }
         if let Some(f) = &self.fluid {
             canopy_in_flow::check(c, f, s);
         }

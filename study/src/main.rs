@@ -221,7 +221,7 @@ fn scenario_study(a: &AccuracyArgs, path: &Path, integrators: &[Integrator], lev
         dir: out.clone(),
         ..probe
     };
-    let base = study.scenario.coupling.structure_substeps as u64;
+    let base = study.structure.substeps as u64;
     let finest = base << (levels - 1 + scene::REFERENCE_HALVINGS);
     if finest as f64 > scenario::MAX_SUBSTEPS {
         return bad_input(format!(

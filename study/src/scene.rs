@@ -2,7 +2,7 @@
 //! runs through `coupler run`, like any user run, and its monitored positions
 //! are compared with those of a reference run of RK4 (the most accurate
 //! fixed-step scheme) at a much smaller step. The structure step is varied
-//! through `structure_substeps` at a fixed coupling window, so every run
+//! through `[structure] substeps` at a fixed coupling window, so every run
 //! reports its monitors at the same times. CPU time is the structure
 //! process's, from the run's manifest.
 
@@ -113,7 +113,7 @@ impl ScenarioStudy {
             s["structure"]["adaptive"]["tolerance"] = value(t);
             name = format!("{}-tol{t:.0e}", integrator.name());
         }
-        s["coupling"]["structure_substeps"] = value(i64::from(substeps));
+        s["structure"]["substeps"] = value(i64::from(substeps));
         let toml = self.dir.join("runs").join(format!("{name}.toml"));
         let out = self.dir.join("runs").join(&name);
         let _ = std::fs::remove_dir_all(&out);
@@ -189,7 +189,7 @@ impl ScenarioStudy {
         for &i in integrators {
             for (l, &n) in substeps.iter().enumerate() {
                 let (n, tolerance) = if i.is_adaptive() {
-                    let base = self.scenario.coupling.structure_substeps;
+                    let base = self.structure.substeps;
                     (base, Some(adaptive_tolerance(l, substeps.len())))
                 } else {
                     (n, None)

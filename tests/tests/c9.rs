@@ -201,7 +201,7 @@ fn c9_lines_on_a_rigid_body_fall_as_on_a_mass_point() {
     let point = variant("c9-drop", &dir.join("point"), shorten);
     let on_body = variant("c9-drop", &dir.join("body"), |s| {
         shorten(s);
-        s.coupling.impulse_substeps = s.coupling.structure_substeps;
+        s.coupling.impulse_substeps = s.structure_mut().substeps;
         s.participants
             .insert("rigid", ParticipantSpec::program("rigid-proc"));
         let gravity = s.structure.as_ref().unwrap().gravity;

@@ -109,7 +109,7 @@ fn coarse(name: &str, run: &str, end: f64, change: impl FnOnce(&mut Scenario)) -
         s.run.end_time = end;
         s.run.output_interval = end;
         s.coupling.window = 0.02;
-        s.coupling.structure_substeps = 200;
+        s.structure_mut().substeps = 200;
         s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap().cells = [12, 12, 24];
         change(s);
     });

@@ -48,12 +48,7 @@ fn transport_changes_no_number() {
     // The same model stepped in this process, with no IPC, in the schedule's order:
     // per window the fluid load from the last published state, then n_s structure steps.
     let section = s.structure.as_ref().unwrap();
-    let mut model = build_model(
-        section,
-        None,
-        s.coupling.window / s.coupling.structure_substeps as f64,
-    )
-    .unwrap();
+    let mut model = build_model(section, None, section.dt(s.coupling.window)).unwrap();
     let mut integrator = integrator(section.scheme());
     let porous = Porous::new(
         &s.fluid
@@ -73,8 +68,8 @@ fn transport_changes_no_number() {
             &model.v[..3 * n],
             &mut pressure,
         );
-        let h = dt / s.coupling.structure_substeps as f64;
-        for _ in 0..s.coupling.structure_substeps {
+        let h = dt / section.substeps as f64;
+        for _ in 0..section.substeps {
             let loads = Loads {
                 pressure: &pressure,
             };

@@ -100,7 +100,6 @@ output_interval = 0.3
 
 [coupling]
 window = 0.01
-structure_substeps = 20
 
 [participants.fluid]
 program = "fluid-proc"
@@ -127,6 +126,7 @@ z_low = "periodic"
 z_high = "periodic"
 
 [structure]
+substeps = 20
 integrator = "velocity-verlet"
 gravity = [0.0, 0.0, -9.81]
 

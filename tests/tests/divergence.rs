@@ -34,7 +34,7 @@ fn check_warns_when_the_step_is_above_the_stability_limit() {
         );
         if warns {
             // n_s = ⌈ω_max·Δt_f/2⌉ = ⌈1.5⌉.
-            assert!(err.contains("structure_substeps = 2 or more"), "{err}");
+            assert!(err.contains("[structure] substeps = 2 or more"), "{err}");
         }
     }
 }
@@ -102,7 +102,7 @@ fn the_step_limit_with_damping_holds_on_the_t10_and_intruder_drops() {
             variant("c9-drop", &dir, |s| {
                 s.run.end_time = 0.3;
                 s.run.output_interval = 0.0;
-                s.coupling.structure_substeps = n_s;
+                s.structure_mut().substeps = n_s;
                 s.parachute_mut().model = model;
             })
         };
@@ -135,7 +135,7 @@ fn check_bounds_the_impulse_step_of_a_body_on_a_stiff_string() {
         variant("pendulum", &dir, |s| {
             s.run.end_time = 2.0;
             s.coupling.window = 1e-2;
-            s.coupling.structure_substeps = 12;
+            s.structure_mut().substeps = 12;
             s.coupling.impulse_substeps = n_i;
         })
     };

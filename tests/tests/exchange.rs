@@ -36,7 +36,7 @@ fn each_participant_sees_the_scheduled_substeps() {
     let (m, windows) = run_variant("pendulum", &dir, |s| {
         s.run.end_time = 0.05;
         s.coupling.window = 1e-3;
-        s.coupling.structure_substeps = 6;
+        s.structure_mut().substeps = 6;
         s.coupling.impulse_substeps = 3;
     });
     assert_eq!(windows, 50);
@@ -45,7 +45,7 @@ fn each_participant_sees_the_scheduled_substeps() {
 
     let (m, windows) = run_variant("canopy-porous", &dir, |s| {
         s.run.end_time = 0.1;
-        s.coupling.structure_substeps = 5;
+        s.structure_mut().substeps = 5;
     });
     assert_eq!(windows, 50);
     assert_eq!(substeps(&m, "fluid"), windows);
@@ -227,7 +227,7 @@ fn three_participants_exchange_every_field_each_sub_step() {
     let dir = scratch("three");
     let (m, windows) = run_variant("canopy-porous", &dir, |s| {
         s.run.end_time = 0.1;
-        s.coupling.structure_substeps = 4;
+        s.structure_mut().substeps = 4;
         s.coupling.impulse_substeps = 2;
         s.participants
             .insert("rigid", ParticipantSpec::program("rigid-proc"));

@@ -50,10 +50,8 @@ pub(super) fn manifest(
         "culprit": culprit,
         "schedule": {
             "window_s": s.coupling.window,
-            "structure_substeps": s.coupling.structure_substeps,
             "impulse_substeps": s.coupling.impulse_substeps,
             "windows": super::timing(s).windows(),
-            "structure_dt_s": s.coupling.structure_dt(),
         },
         "checked": checked_json(&checked.answers),
         "coupler": {

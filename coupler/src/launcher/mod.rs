@@ -194,12 +194,7 @@ pub fn check(path: &Path) -> i32 {
         timing(s).windows(),
         c.window
     );
-    println!(
-        "  sub-steps n_s = {} (Δt_s = {:e} s), impulse sub-steps = {}",
-        c.structure_substeps,
-        c.structure_dt(),
-        c.impulse_substeps
-    );
+    println!("  impulse sub-steps = {}", c.impulse_substeps);
     for (role, program) in &checked.programs {
         let ranks = s.participants.get(role).map_or(1, |p| p.ranks());
         if ranks > 1 {
@@ -267,7 +262,6 @@ pub fn timing(s: &Scenario) -> Timing {
         end_time: s.run.end_time,
         window: s.coupling.window,
         output_interval: s.run.output_interval,
-        structure_substeps: s.coupling.structure_substeps,
         impulse_substeps: s.coupling.impulse_substeps,
         timeout: s.coupling.timeout,
         checkpoint_interval: s.run.checkpoint_interval.unwrap_or(0.0),

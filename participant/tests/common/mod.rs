@@ -14,7 +14,6 @@ pub fn timing(windows: u32, timeout: f64) -> Timing {
         end_time: windows as f64 * 0.1,
         window: 0.1,
         output_interval: 0.0,
-        structure_substeps: 1,
         impulse_substeps: 1,
         timeout,
         checkpoint_interval: 0.0,

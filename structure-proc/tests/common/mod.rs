@@ -33,6 +33,7 @@ pub fn canopy(e: Elasticity, gravity: [f64; 3], damping: Option<Law>) -> Model {
         Elasticity::Membrane(m) => (None, None, Some(m)),
     };
     let section = StructureSection {
+        substeps: 1,
         integrator: Integrator::VelocityVerlet,
         device: Default::default(),
         newmark: Default::default(),

@@ -65,10 +65,10 @@ const CASES: &[Case] = &[
     },
     Case {
         name: "wrong-type-int",
-        edit: |t| replace(t, "structure_substeps = 4", "structure_substeps = 4.5"),
-        key: Some("coupling.structure_substeps"),
+        edit: |t| replace(t, "\nsubsteps = 4 ", "\nsubsteps = 4.5 "),
+        key: Some("structure.substeps"),
         says: "invalid type",
-        line_of: Some("structure_substeps"),
+        line_of: Some("substeps = 4.5"),
     },
     Case {
         name: "missing-value",
@@ -93,10 +93,24 @@ const CASES: &[Case] = &[
     },
     Case {
         name: "zero-substeps",
-        edit: |t| replace(t, "structure_substeps = 4", "structure_substeps = 0"),
-        key: Some("coupling.structure_substeps"),
+        edit: |t| replace(t, "\nsubsteps = 4 ", "\nsubsteps = 0 "),
+        key: Some("structure.substeps"),
         says: "must be at least 1",
-        line_of: Some("structure_substeps = 0"),
+        line_of: Some("substeps = 0"),
+    },
+    // Before issue 44 the structure's sub-steps were a coupling key.
+    Case {
+        name: "substeps-where-they-were",
+        edit: |t| {
+            replace(
+                t,
+                "impulse_substeps = 4",
+                "structure_substeps = 4\nimpulse_substeps = 4",
+            )
+        },
+        key: Some("coupling.structure_substeps"),
+        says: "write `substeps = N` in its table ([structure]",
+        line_of: Some("structure_substeps = 4"),
     },
     Case {
         name: "zero-impulse-substeps",
@@ -108,9 +122,9 @@ const CASES: &[Case] = &[
     Case {
         name: "impulse-not-dividing",
         edit: |t| replace(t, "impulse_substeps = 4", "impulse_substeps = 3"),
-        key: Some("coupling.impulse_substeps"),
-        says: "must divide structure_substeps",
-        line_of: Some("impulse_substeps = 3"),
+        key: Some("structure.substeps"),
+        says: "is not a multiple of [coupling] impulse_substeps = 3",
+        line_of: Some("substeps = 4 "),
     },
     Case {
         name: "end-before-start",

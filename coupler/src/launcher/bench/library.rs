@@ -157,7 +157,6 @@ fn supervise(sup: &mut Supervisor, run: &str, dir: &Path) -> Result<Vec<f64>, St
         end_time: 1.0,
         window: 1.0,
         output_interval: 0.0,
-        structure_substeps: 1,
         impulse_substeps: 1,
         timeout: 600.0,
         checkpoint_interval: 0.0,
