@@ -39,6 +39,37 @@ pub fn path_string(path: &[Seg]) -> String {
     s
 }
 
+/// The rules the typed checks apply, by key path (array indices left
+/// out: `rigid.bodies.mass`), each once, in the order the checks first
+/// applied them, as [`recording_rules`] gathers them.
+pub type Rules = std::collections::BTreeMap<String, Vec<String>>;
+
+/// Adds `rule` to the rules of `path`, once.
+pub fn add_rule(rules: &mut Rules, path: String, rule: String) {
+    let held = rules.entry(path).or_default();
+    if !held.contains(&rule) {
+        held.push(rule);
+    }
+}
+
+thread_local! {
+    /// The rules being gathered on this thread, while [`recording_rules`] runs.
+    static RECORDING: std::cell::RefCell<Option<Rules>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Runs `f` and gathers the rule of every typed check that any
+/// [`Checker`] on this thread applies meanwhile (whether the value passes
+/// or not): the key reference lists them beside each key
+/// (`reference.rs`), from the checks themselves, so that it cannot drift
+/// from them. A rule of its own that a section states with
+/// [`Checker::problem`] is not among them: it is seen only when it fails.
+pub fn recording_rules<T>(f: impl FnOnce() -> T) -> (T, Rules) {
+    let outer = RECORDING.with(|r| r.borrow_mut().replace(Rules::new()));
+    let value = f();
+    let rules = RECORDING.with(|r| std::mem::replace(&mut *r.borrow_mut(), outer));
+    (value, rules.unwrap_or_default())
+}
+
 /// Collects the first problem; later checks are ignored so the user gets one clear message.
 #[derive(Debug, Default)]
 pub struct Checker {
@@ -71,12 +102,28 @@ impl Checker {
         self.first
     }
 
+    /// Notes that the key at `keys` is held to `rule`, when rules are
+    /// being gathered ([`recording_rules`]).
+    fn rule(&self, keys: &[&str], rule: impl FnOnce() -> String) {
+        RECORDING.with(|r| {
+            if let Some(rules) = r.borrow_mut().as_mut() {
+                let key = (self.prefix.iter())
+                    .filter(|s| matches!(s, Seg::Key(_)))
+                    .cloned()
+                    .chain(keys.iter().map(|k| Seg::Key(k.to_string())))
+                    .collect::<Vec<_>>();
+                add_rule(rules, path_string(&key), rule());
+            }
+        });
+    }
+
     fn last(keys: &[&str]) -> String {
         keys.last().copied().unwrap_or("value").to_string()
     }
 
     /// A physical value: finite, and of a magnitude whose products stay finite.
     pub fn finite(&mut self, keys: &[&str], v: f64) {
+        self.rule(keys, || format!("finite, |x| ≤ {MAX_MAGNITUDE:e}"));
         if !v.is_finite() {
             self.problem(
                 keys,
@@ -88,6 +135,7 @@ impl Checker {
     }
 
     pub fn finite3(&mut self, keys: &[&str], v: [f64; 3]) {
+        self.rule(keys, || format!("finite, each |x| ≤ {MAX_MAGNITUDE:e}"));
         if v.iter().any(|x| !x.is_finite()) {
             self.problem(
                 keys,
@@ -99,6 +147,9 @@ impl Checker {
     }
 
     pub fn positive(&mut self, keys: &[&str], v: f64, unit: &str) {
+        self.rule(keys, || {
+            format!("> 0 {unit}, from {MIN_POSITIVE:e} to {MAX_MAGNITUDE:e}").replace("  ", " ")
+        });
         if !(v.is_finite() && v > 0.0) {
             self.problem(
                 keys,
@@ -122,6 +173,7 @@ impl Checker {
     }
 
     pub fn finite_nonneg(&mut self, keys: &[&str], v: f64) {
+        self.rule(keys, || format!("≥ 0, ≤ {MAX_MAGNITUDE:e}"));
         if !(v.is_finite() && v >= 0.0) {
             self.problem(keys, format!("{} = {v} must be ≥ 0", Self::last(keys)));
         } else {
@@ -147,6 +199,7 @@ impl Checker {
     }
 
     pub fn nonzero(&mut self, keys: &[&str], v: f64) {
+        self.rule(keys, || "≥ 1".into());
         if v == 0.0 {
             self.problem(keys, format!("{} must be at least 1", Self::last(keys)));
         }
@@ -154,6 +207,7 @@ impl Checker {
 
     /// At most `max` (guards memory and run length against typos like 1e20).
     pub fn at_most(&mut self, keys: &[&str], v: f64, max: f64) {
+        self.rule(keys, || format!("≤ {max:e}"));
         if v > max {
             self.problem(
                 keys,
@@ -167,6 +221,10 @@ impl Checker {
 
     /// A name used in file and column names: letters, digits, `_`, `-` (and `.` not first).
     pub fn plain_name(&mut self, keys: &[&str], name: &str, dots: bool) {
+        self.rule(keys, || match dots {
+            true => "a name: letters, digits, `_`, `-`, `.` (not first)".into(),
+            false => "a name: letters, digits, `_`, `-`".into(),
+        });
         let ok = !name.is_empty()
             && !name.starts_with('.')
             && name
@@ -184,6 +242,7 @@ impl Checker {
     }
 
     pub fn fraction(&mut self, keys: &[&str], v: f64) {
+        self.rule(keys, || "strictly between 0 and 1".into());
         if !(v.is_finite() && v > 0.0 && v < 1.0) {
             self.problem(
                 keys,

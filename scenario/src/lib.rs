@@ -13,7 +13,10 @@ pub mod section;
 mod spans;
 
 pub use answer::{answer_check, answer_check_as, Answer, CHECK_FLAG};
-pub use check::{path_string, Checker, Problem, Seg, MAX_MAGNITUDE, MIN_POSITIVE};
+pub use check::{
+    add_rule, path_string, recording_rules, Checker, Problem, Rules, Seg, MAX_MAGNITUDE,
+    MIN_POSITIVE,
+};
 pub use error::ScenarioError;
 pub use implicit::{ImplicitSection, SchemeName};
 

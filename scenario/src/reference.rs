@@ -1,44 +1,77 @@
 //! The reference of a section's keys, generated from its serde types'
 //! JSON schema (schemars, which reads the serde attributes and the doc
-//! comments): one Markdown table per TOML table, nested tables after
-//! their parent, so that the book's key reference cannot drift from the
-//! code (the book's test compares it with `docs/src/keys.md`).
+//! comments) and from the rules its checks apply (`check.rs`'s
+//! [`recording_rules`](crate::check::recording_rules)): one Markdown table
+//! per TOML table, nested tables after their parent, so that the book's
+//! key reference cannot drift from the code (the book's test compares it
+//! with `docs/src/keys.md`).
 
+use crate::check::{add_rule, Rules};
 use schemars::JsonSchema;
 use serde_json::{Map, Value};
+use std::collections::BTreeMap;
 
 /// The Markdown reference of the TOML table `table` (`structure`,
-/// `participants.NAME`, …) read into `T`.
-pub fn of<T: JsonSchema>(table: &str) -> String {
-    markdown(table, schemars::schema_for!(T).as_value())
+/// `participants.NAME`, …) read into `T`, each key with the `rules` its
+/// checks apply (by key path).
+pub fn of<T: JsonSchema>(table: &str, rules: &Rules) -> String {
+    markdown(table, schemars::schema_for!(T).as_value(), rules)
 }
 
 /// The Markdown reference of the TOML table `table` whose keys `schema`
-/// describes.
-pub fn markdown(table: &str, schema: &Value) -> String {
+/// describes, with the `rules` checked of each.
+pub fn markdown(table: &str, schema: &Value, rules: &Rules) -> String {
     let defs = schema.get("$defs").cloned().unwrap_or(Value::Null);
-    let mut out = String::new();
     let top = Nested {
         path: table.to_string(),
         schema: schema.clone(),
         tag: None,
         array: false,
     };
-    Writer {
-        defs: &defs,
-        out: &mut out,
-        seen: Default::default(),
+    // A shared table is written once, at the first path it stands at; the
+    // rules checked of it at its other paths belong there too. The first
+    // pass finds those paths.
+    let none = Rules::new();
+    let mut first = Writer::new(&defs, &none);
+    first.table(&top);
+    let rules = aliased(rules, &first.aliases);
+    let mut writer = Writer::new(&defs, &rules);
+    writer.table(&top);
+    writer.out
+}
+
+/// `rules` with every path under a table that `aliases` maps to where
+/// that table is written moved there.
+fn aliased(rules: &Rules, aliases: &BTreeMap<String, String>) -> Rules {
+    let mut out = Rules::new();
+    for (path, r) in rules {
+        let mut at = path.clone();
+        // The longest alias first (of two paths one of which begins the
+        // other, the longer sorts last); a path moved may sit under another
+        // alias, and each move goes to a path written before.
+        for _ in 0..=aliases.len() {
+            let alias =
+                (aliases.iter().rev()).find(|(from, _)| at.starts_with(&format!("{from}.")));
+            let Some((from, to)) = alias else { break };
+            at = format!("{to}{}", &at[from.len()..]);
+        }
+        for rule in r {
+            add_rule(&mut out, at.clone(), rule.clone());
+        }
     }
-    .table(&top);
     out
 }
 
 struct Writer<'a> {
     defs: &'a Value,
-    out: &'a mut String,
+    rules: &'a Rules,
+    out: String,
     /// Each shared type (a `$ref`) written so far, and the table it was
     /// written as: a type met again refers to it rather than repeating it.
-    seen: std::collections::BTreeMap<String, String>,
+    seen: BTreeMap<String, String>,
+    /// Each path where a shared table stands again, and the path it was
+    /// written at.
+    aliases: BTreeMap<String, String>,
 }
 
 /// A nested table to write after its parent: its path, schema, for a
@@ -51,7 +84,25 @@ struct Nested {
     array: bool,
 }
 
-impl Writer<'_> {
+impl<'a> Writer<'a> {
+    fn new(defs: &'a Value, rules: &'a Rules) -> Writer<'a> {
+        Writer {
+            defs,
+            rules,
+            out: String::new(),
+            seen: BTreeMap::new(),
+            aliases: BTreeMap::new(),
+        }
+    }
+
+    /// The rules checked of the key at `path`, for its cell.
+    fn checks(&self, path: &str) -> String {
+        match self.rules.get(path) {
+            Some(r) => r.join("; "),
+            None => String::new(),
+        }
+    }
+
     /// `s` with any `$ref` followed.
     fn resolve<'v>(&'v self, s: &'v Value) -> &'v Value {
         match s.get("$ref").and_then(Value::as_str) {
@@ -100,7 +151,7 @@ impl Writer<'_> {
             .map(|r| r.iter().filter_map(Value::as_str).collect())
             .unwrap_or_default();
         self.out
-            .push_str("| key | value | default | meaning |\n|---|---|---|---|\n");
+            .push_str("| key | value | default | checked | meaning |\n|---|---|---|---|---|\n");
         let mut nested: Vec<Nested> = Vec::new();
         for (key, prop) in props {
             if tag.is_some_and(|t| t.starts_with(&format!("{key} ="))) {
@@ -113,7 +164,9 @@ impl Writer<'_> {
             let first = shared.as_ref().and_then(|r| self.seen.get(r)).cloned();
             let kind = match first {
                 Some(at) if is_table(&inner) || is_variants(&inner) => {
-                    format!("as `[{at}]`, above")
+                    let kind = format!("as `[{at}]`, above");
+                    self.aliases.insert(path.clone(), at);
+                    kind
                 }
                 _ => {
                     if let Some(r) = shared {
@@ -136,8 +189,9 @@ impl Writer<'_> {
             for n in notes {
                 what.push_str(&format!(" {n}"));
             }
+            let checked = cell(&self.checks(&path));
             self.out.push_str(&format!(
-                "| `{key}` | {kind} | {default} | {} |\n",
+                "| `{key}` | {kind} | {default} | {checked} | {} |\n",
                 cell(&what)
             ));
         }
@@ -363,6 +417,44 @@ fn cell(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::check::{recording_rules, Checker};
+
+    /// A table type that stands at two paths, as the fabric does.
+    #[derive(schemars::JsonSchema)]
+    #[allow(dead_code)]
+    struct Fabric {
+        stiffness: f64,
+    }
+
+    #[derive(schemars::JsonSchema)]
+    #[allow(dead_code)]
+    struct Top {
+        a: Fabric,
+        b: Fabric,
+        n: u32,
+    }
+
+    #[test]
+    fn a_key_shows_the_rules_its_checks_apply_wherever_its_table_stands() {
+        let ((), rules) = recording_rules(|| {
+            let mut c = Checker::default();
+            c.within("top", None, |c| {
+                c.nonzero(&["n"], 0.0);
+                c.within("b", None, |c| c.positive(&["stiffness"], 1.0, "N/m"));
+            });
+        });
+        let md = of::<Top>("top", &rules);
+        // The rule n = 0 broke is listed, and b's fabric, written as a's,
+        // lends it the rule checked at b.
+        assert!(md.contains("| `n` | integer ≥ 0 | required | ≥ 1 |"), "{md}");
+        let stiffness = "| `stiffness` | number | required | > 0 N/m, from 1e-30 to 1e30 |";
+        assert!(md.contains(stiffness), "{md}");
+        assert!(md.contains("| `b` | as `[top.a]`, above |"), "{md}");
+        // Outside `recording_rules` nothing is gathered.
+        let ((), after) = recording_rules(|| {});
+        Checker::default().nonzero(&["n"], 1.0);
+        assert!(after.is_empty());
+    }
 
     #[test]
     fn rustdoc_links_become_plain_code() {

@@ -95,16 +95,68 @@ fn the_table_of_contents_lists_every_chapter_once() {
 /// The key reference, generated from the sections' own types (their serde
 /// attributes and doc comments, through their JSON schema): every key of
 /// `[run]`, `[coupling]`, `[participants.NAME]`, `[structure]`, `[fluid]`
-/// and `[rigid]`, with its value, default and meaning.
+/// and `[rigid]`, with its value, default, the rules its checks hold it to
+/// and its meaning.
 fn key_reference() -> String {
     use scenario::reference::of;
+    let rules = checked_rules();
     let mut out = String::from(KEYS_HEAD);
-    out.push_str(&of::<scenario::RunSection>("run"));
-    out.push_str(&of::<scenario::CouplingSection>("coupling"));
-    out.push_str(&of::<scenario::ParticipantSpec>("participants.NAME"));
-    out.push_str(&of::<structure_section::StructureSection>("structure"));
-    out.push_str(&of::<fluid_section::FluidSection>("fluid"));
-    out.push_str(&of::<rigid_section::RigidSection>("rigid"));
+    out.push_str(&of::<scenario::RunSection>("run", &rules));
+    out.push_str(&of::<scenario::CouplingSection>("coupling", &rules));
+    out.push_str(&of::<scenario::ParticipantSpec>(
+        "participants.NAME",
+        &rules,
+    ));
+    out.push_str(&of::<structure_section::StructureSection>(
+        "structure",
+        &rules,
+    ));
+    out.push_str(&of::<fluid_section::FluidSection>("fluid", &rules));
+    out.push_str(&of::<rigid_section::RigidSection>("rigid", &rules));
+    out
+}
+
+/// The rules the checks apply, gathered while every shipped scene is read
+/// as its programs read it (the coupling part, and each listed section of
+/// canopy's own participants); `[participants.X]` as `[participants.NAME]`.
+fn checked_rules() -> scenario::Rules {
+    let mut scenes: Vec<PathBuf> = std::fs::read_dir(root().join("scenarios"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    scenes.sort();
+    let (read, rules) = scenario::recording_rules(|| {
+        scenes.iter().try_for_each(|path| {
+            let text = std::fs::read_to_string(path).unwrap();
+            let scene = scenario::Scenario::parse(path, &text)?;
+            let listed = |name| scene.participants.lists(name);
+            if listed("structure") {
+                structure_section::Scene::load(path, &text, "structure-proc")?;
+            }
+            if listed("fluid") {
+                fluid_section::Scene::load(path, &text)?;
+            }
+            if listed("rigid") {
+                rigid_section::Scene::load(path, &text)?;
+            }
+            Ok::<(), scenario::ScenarioError>(())
+        })
+    });
+    read.expect("every shipped scene reads");
+    let mut out = scenario::Rules::new();
+    for (path, r) in rules {
+        let path = match path.strip_prefix("participants.") {
+            Some(rest) => match rest.split_once('.') {
+                Some((_, key)) => format!("participants.NAME.{key}"),
+                None => path,
+            },
+            None => path,
+        };
+        for rule in r {
+            scenario::add_rule(&mut out, path.clone(), rule);
+        }
+    }
     out
 }
 
@@ -117,9 +169,12 @@ canopy-tests --test book -->
 Every key a scenario's tables take, generated from the types the
 programs read them into: the value each takes, its default (\"required\"
 where there is none; \"none\" where leaving it out means none), and what
-it means, from the code's own comments. The checks of ranges and of keys
-that go together run when the file is read (`coupler check`), each
-naming the file, line and key; [Scenario format](scenario-format.md)
+it means, from the code's own comments. \"checked\" lists the rules
+each key's value is held to, gathered from the checks themselves as
+they read every shipped scene (a key no shipped scene gives shows none
+there, though its checks run all the same). Those checks, and the ones
+of keys that go together, run when the file is read (`coupler check`),
+each naming the file, line and key; [Scenario format](scenario-format.md)
 says how a file is laid out.
 
 ";
