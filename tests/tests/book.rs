@@ -52,10 +52,15 @@ fn broken(file: &Path) -> Vec<String> {
 }
 
 fn chapters() -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("docs/src"))
+    files_of(&root().join("docs/src"), "md")
+}
+
+/// The files of `dir` whose names end in `.ext`, sorted.
+fn files_of(dir: &Path, ext: &str) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .filter(|p| p.extension().is_some_and(|e| e == ext))
         .collect();
     files.sort();
     files
@@ -120,12 +125,7 @@ fn key_reference() -> String {
 /// as its programs read it (the coupling part, and each listed section of
 /// canopy's own participants); `[participants.X]` as `[participants.NAME]`.
 fn checked_rules() -> scenario::Rules {
-    let mut scenes: Vec<PathBuf> = std::fs::read_dir(root().join("scenarios"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    scenes.sort();
+    let scenes = files_of(&root().join("scenarios"), "toml");
     let (read, rules) = scenario::recording_rules(|| {
         scenes.iter().try_for_each(|path| {
             let text = std::fs::read_to_string(path).unwrap();
