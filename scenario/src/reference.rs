@@ -446,7 +446,10 @@ mod tests {
         let md = of::<Top>("top", &rules);
         // The rule n = 0 broke is listed, and b's fabric, written as a's,
         // lends it the rule checked at b.
-        assert!(md.contains("| `n` | integer ≥ 0 | required | ≥ 1 |"), "{md}");
+        assert!(
+            md.contains("| `n` | integer ≥ 0 | required | ≥ 1 |"),
+            "{md}"
+        );
         let stiffness = "| `stiffness` | number | required | > 0 N/m, from 1e-30 to 1e30 |";
         assert!(md.contains(stiffness), "{md}");
         assert!(md.contains("| `b` | as `[top.a]`, above |"), "{md}");

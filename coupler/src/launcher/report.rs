@@ -96,15 +96,19 @@ fn draw(
         .map(|i| (time[i], values[i]))
         .collect();
     let (t0, t1) = (time[0], time[time.len() - 1]);
-    let (lo, hi) = (points.iter()).fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    let ((lo, hi), clipped) = shown_range(&points, t0 + START_SHARE * (t1 - t0));
     // A constant monitor gets a band about its value.
     let pad = match (hi > lo, lo == 0.0) {
         (true, _) => 0.05 * (hi - lo),
         (false, true) => 1.0,
         (false, false) => 0.5 * lo.abs(),
     };
+    let caption = match clipped {
+        true => format!("{name} (its start off the scale)"),
+        false => name.to_string(),
+    };
     let mut chart = ChartBuilder::on(panel)
-        .caption(name, (FONT, 13))
+        .caption(caption, (FONT, 13))
         .margin(6)
         .x_label_area_size(32)
         .y_label_area_size(66)
@@ -127,6 +131,31 @@ fn draw(
         .draw()?;
     chart.draw_series(LineSeries::new(points, BLUE.stroke_width(1)))?;
     Ok(())
+}
+
+/// The share of a run at its start whose values may run off a panel.
+const START_SHARE: f64 = 0.1;
+/// How many times the rest of a run's span the start may reach beyond it
+/// before it runs off the panel.
+const START_REACH: f64 = 10.0;
+
+/// The range of `points` (time, value) a panel shows, and whether values
+/// before `after` [s] run off it: they do where they reach more than
+/// [`START_REACH`] times the span of the later values beyond those (a
+/// ratio taken at rest, such as C_D0 = D/(q·S₀) before the payload has
+/// speed, would flatten the rest of the run to a line).
+fn shown_range(points: &[(f64, f64)], after: f64) -> ((f64, f64), bool) {
+    let range = |it: &mut dyn Iterator<Item = f64>| {
+        it.fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)))
+    };
+    let all = range(&mut points.iter().map(|p| p.1));
+    let later = range(&mut points.iter().filter(|p| p.0 >= after).map(|p| p.1));
+    let span = later.1 - later.0;
+    let reach = (later.0 - all.0).max(all.1 - later.1);
+    match span > 0.0 && reach > START_REACH * span {
+        true => (later, true),
+        false => (all, false),
+    }
 }
 
 /// The summary's picture, `<summary name>.png` in `run_dir`: the run's
@@ -188,4 +217,31 @@ pub fn summary_page(
     }
     area.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_ratio_taken_at_rest_runs_off_the_panel_and_the_rest_fills_it() {
+        // C_D0 = D/(q·S₀) of a payload released from rest: 90 at the
+        // start, then between 0.3 and 0.5.
+        let cd: Vec<(f64, f64)> = (0..100)
+            .map(|i| {
+                (
+                    i as f64 * 0.03,
+                    if i < 2 { 90.0 } else { 0.3 + 0.002 * i as f64 },
+                )
+            })
+            .collect();
+        let ((lo, hi), clipped) = shown_range(&cd, 0.3);
+        assert!(clipped);
+        assert_eq!((lo, hi), (0.3 + 0.002 * 10.0, 0.3 + 0.002 * 99.0));
+        // A descent speed rising from 0 keeps its whole range.
+        let v: Vec<(f64, f64)> = (0..100)
+            .map(|i| (i as f64 * 0.03, (i as f64).min(30.0)))
+            .collect();
+        assert_eq!(shown_range(&v, 0.3), ((0.0, 30.0), false));
+    }
 }
