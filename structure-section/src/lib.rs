@@ -421,26 +421,7 @@ impl StructureSection {
                 _ => {}
             }
             self.check_network(c);
-            if let Some(a) = &self.annulus {
-                c.within("annulus", None, |c| {
-                    c.positive(&["inner_radius"], a.inner_radius, "m");
-                    c.positive(&["outer_radius"], a.outer_radius, "m");
-                    if a.outer_radius <= a.inner_radius {
-                        c.problem(&["outer_radius"], format!(
-                            "outer_radius = {} must exceed inner_radius = {}", a.outer_radius, a.inner_radius));
-                    }
-                    c.at_most(&["rings"], a.rings as f64, 1000.0);
-                    c.at_most(&["outer_nodes"], a.outer_nodes as f64, 1e5);
-                    if a.rings < 2 {
-                        c.problem(&["rings"], format!("rings = {} must be at least 2", a.rings));
-                    }
-                    if a.outer_nodes < 6 {
-                        c.problem(&["outer_nodes"], format!("outer_nodes = {} must be at least 6", a.outer_nodes));
-                    }
-                    a.fabric.check(c);
-                    c.finite(&["height"], a.height);
-                });
-            }
+            self.check_annulus(c);
             for (i, s) in self.strings.iter().enumerate() {
                 c.within("strings", Some(i), |c| {
                     c.finite3(&["anchor"], s.anchor);
@@ -454,6 +435,41 @@ impl StructureSection {
                 });
             }
         });
+    }
+
+    /// `[structure.annulus]`: radii, rings and nodes that make a mesh.
+    fn check_annulus(&self, c: &mut Checker) {
+        if let Some(a) = &self.annulus {
+            c.within("annulus", None, |c| {
+                c.positive(&["inner_radius"], a.inner_radius, "m");
+                c.positive(&["outer_radius"], a.outer_radius, "m");
+                if a.outer_radius <= a.inner_radius {
+                    c.problem(
+                        &["outer_radius"],
+                        format!(
+                            "outer_radius = {} must exceed inner_radius = {}",
+                            a.outer_radius, a.inner_radius
+                        ),
+                    );
+                }
+                c.at_most(&["rings"], a.rings as f64, 1000.0);
+                c.at_most(&["outer_nodes"], a.outer_nodes as f64, 1e5);
+                if a.rings < 2 {
+                    c.problem(
+                        &["rings"],
+                        format!("rings = {} must be at least 2", a.rings),
+                    );
+                }
+                if a.outer_nodes < 6 {
+                    c.problem(
+                        &["outer_nodes"],
+                        format!("outer_nodes = {} must be at least 6", a.outer_nodes),
+                    );
+                }
+                a.fabric.check(c);
+                c.finite(&["height"], a.height);
+            });
+        }
     }
 
     fn check_network(&self, c: &mut Checker) {
