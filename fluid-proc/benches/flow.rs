@@ -40,11 +40,7 @@ fn cube(n: usize, comm: Arc<dyn Comm>) -> Incompressible {
     let mut sides = [[Side::WALL; 2]; 3];
     sides[2][1] = Side::Velocity([1.0, 0.0, 0.0]);
     let setup = FlowSetup {
-        grid: Grid {
-            n: [n; 3],
-            h: [1.0 / n as f64; 3],
-            bc: bcs(&sides),
-        },
+        grid: Grid::uniform([n; 3], [1.0 / n as f64; 3], bcs(&sides)),
         sides,
         density: 1.0,
         nu: 0.01,

@@ -118,12 +118,14 @@ pub trait Lead: Sized {
 }
 
 /// A box's cell fields, gathered on rank 0 for the output: `cells` along
-/// x, y, z from `origin` [m], `spacing` [m] apart, each field with its
-/// name and its values per cell (x fastest).
+/// x, y, z from `origin` [m], `spacing` [m] apart (a graded box: its faces
+/// along each axis, world coordinates [m]), each field with its name and
+/// its values per cell (x fastest).
 pub struct Cells {
     pub origin: [f64; 3],
     pub spacing: [f64; 3],
     pub cells: [usize; 3],
+    pub faces: Option<[Vec<f64>; 3]>,
     pub fields: Vec<(&'static str, usize, Vec<f64>)>,
 }
 
@@ -134,6 +136,7 @@ impl Cells {
             origin: self.origin,
             spacing: self.spacing,
             cells: self.cells,
+            faces: self.faces.as_ref(),
             cell_data: self
                 .fields
                 .iter()

@@ -26,11 +26,7 @@ fn channel(ny: usize) -> (f64, f64) {
         [Side::Periodic; 2],
     ];
     let mut flow = Incompressible::new(FlowSetup {
-        grid: Grid {
-            n: [nx, ny, 1],
-            h: [length / nx as f64, h, h],
-            bc: bcs(&sides),
-        },
+        grid: Grid::uniform([nx, ny, 1], [length / nx as f64, h, h], bcs(&sides)),
         sides,
         density,
         nu,

@@ -40,11 +40,7 @@ fn channel() -> Incompressible {
         [Side::Periodic; 2],
     ];
     let mut flow = Incompressible::new(FlowSetup {
-        grid: Grid {
-            n: [nx, ny, 1],
-            h: [H; 3],
-            bc: bcs(&sides),
-        },
+        grid: Grid::uniform([nx, ny, 1], [H; 3], bcs(&sides)),
         sides,
         density: 1.2,
         nu: 1e-3,

@@ -54,11 +54,7 @@ fn cylinder(nx: usize, ny: usize, time: f64) -> Measured {
         [Side::Periodic; 2],
     ];
     let mut flow = Incompressible::new(FlowSetup {
-        grid: Grid {
-            n: [nx, ny, 1],
-            h: [h[0], h[1], thickness],
-            bc: bcs(&sides),
-        },
+        grid: Grid::uniform([nx, ny, 1], [h[0], h[1], thickness], bcs(&sides)),
         sides,
         density: 1.0,
         nu: NU,

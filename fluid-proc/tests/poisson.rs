@@ -10,11 +10,7 @@ use std::f64::consts::PI;
 fn unit_box(n: usize, dims: usize, bc: [[Bc; 2]; 2]) -> Grid {
     let nz = if dims == 2 { 1 } else { n };
     let z = if dims == 2 { [Bc::Periodic; 2] } else { bc[1] };
-    Grid {
-        n: [n, n, nz],
-        h: [1.0 / n as f64; 3],
-        bc: [bc[0], bc[1], z],
-    }
+    Grid::uniform([n, n, nz], [1.0 / n as f64; 3], [bc[0], bc[1], z])
 }
 
 fn centre(g: &Grid, i: usize) -> [f64; 3] {

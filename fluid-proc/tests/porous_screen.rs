@@ -39,11 +39,7 @@ fn screen(law: Option<[f64; 2]>, sheet: f64, along: f64, steps: usize) -> Screen
         [Side::Periodic; 2],
     ];
     let mut flow = Incompressible::new(FlowSetup {
-        grid: Grid {
-            n: [nx, ny, 1],
-            h: [h; 3],
-            bc: bcs(&sides),
-        },
+        grid: Grid::uniform([nx, ny, 1], [h; 3], bcs(&sides)),
         sides,
         density: 1.2,
         nu: 1.5e-5,

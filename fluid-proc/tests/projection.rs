@@ -25,11 +25,7 @@ impl Lcg {
 /// 1 m/s ± 10 % up through a Neumann floor under a Dirichlet top (inflow,
 /// outflow), equal periodic faces.
 fn case(n: [usize; 3], bc: [[Bc; 2]; 3], seed: u64) -> (Grid, Faces) {
-    let g = Grid {
-        n,
-        h: [1.0 / n[0] as f64; 3],
-        bc,
-    };
+    let g = Grid::uniform(n, [1.0 / n[0] as f64; 3], bc);
     let mut u = Faces::zeros(&g);
     let mut rng = Lcg(seed);
     for d in 0..3 {

@@ -17,6 +17,7 @@
 use exchange::Shape;
 use fluid_proc::comm::Comm;
 use fluid_proc::incompressible::canopy::sheet_markers;
+use fluid_proc::incompressible::axis::Axis;
 use fluid_proc::incompressible::grid::Grid;
 use fluid_proc::incompressible::immersed::{place_markers, ImmersedBody};
 use fluid_proc::incompressible::part::Part;
@@ -144,13 +145,43 @@ struct Gathered {
 /// thread ranks. Periodic but for the z sides, `z`; with `bodies`, a
 /// moving sphere and a porous sheet in it.
 fn taylor_green(n: [usize; 3], z: Side, ranks: usize, steps: usize, bodies: bool) -> Gathered {
+    taylor_green_on(Box::new(Uniform(n)), z, ranks, steps, bodies)
+}
+
+/// The cells of the box [0, 2π]³ along each axis.
+trait Cells: Send + Sync {
+    fn axis(&self, d: usize, periodic: bool) -> Axis;
+}
+
+/// `n` uniform cells along each axis.
+struct Uniform([usize; 3]);
+
+impl Cells for Uniform {
+    fn axis(&self, d: usize, _: bool) -> Axis {
+        Axis::uniform(self.0[d], 2.0 * PI / self.0[d] as f64)
+    }
+}
+
+/// Graded along every axis: cells of π/8 in the middle half, growing by
+/// at most 1.2 toward the sides (14 cells along each axis, `axis.rs`).
+struct Graded;
+
+impl Cells for Graded {
+    fn axis(&self, _: usize, periodic: bool) -> Axis {
+        Axis::graded(2.0 * PI, [0.5 * PI, 1.5 * PI], PI / 8.0, 1.2, periodic).unwrap()
+    }
+}
+
+/// [`taylor_green`] on the cells `cells` gives.
+fn taylor_green_on(cells: Box<dyn Cells>, z: Side, ranks: usize, steps: usize, bodies: bool) -> Gathered {
+    let cells: Arc<dyn Cells> = cells.into();
     let mail = Arc::new(Mailbox::default());
     let threads: Vec<_> = (0..ranks)
         .map(|rank| {
-            let mail = mail.clone();
+            let (mail, cells) = (mail.clone(), cells.clone());
             std::thread::spawn(move || {
                 let comm = Arc::new(Threads { rank, ranks, mail });
-                run(n, z, comm, steps, bodies)
+                run(cells.as_ref(), z, comm, steps, bodies)
             })
         })
         .collect();
@@ -182,15 +213,16 @@ fn place_bodies(flow: &mut Incompressible) {
     flow.canopy = Some(sheet);
 }
 
-fn run(n: [usize; 3], z: Side, comm: Arc<Threads>, steps: usize, bodies: bool) -> Option<Gathered> {
-    let h = n.map(|n| 2.0 * PI / n as f64);
+fn run(cells: &dyn Cells, z: Side, comm: Arc<Threads>, steps: usize, bodies: bool) -> Option<Gathered> {
     let sides = [[Side::Periodic; 2], [Side::Periodic; 2], [z; 2]];
+    let axes = [0, 1, 2].map(|d| cells.axis(d, sides[d][0] == Side::Periodic));
+    let grid = match axes.iter().all(|a| a.is_uniform()) {
+        true => Grid::uniform(axes.clone().map(|a| a.n()), axes.clone().map(|a| a.width(0)), bcs(&sides)),
+        false => Grid::of_axes(axes, bcs(&sides)),
+    };
+    let (n, h) = (grid.n, grid.h);
     let setup = FlowSetup {
-        grid: Grid {
-            n,
-            h,
-            bc: bcs(&sides),
-        },
+        grid: grid.clone(),
         sides,
         density: 1.0,
         nu: 0.05,
@@ -205,7 +237,11 @@ fn run(n: [usize; 3], z: Side, comm: Arc<Threads>, steps: usize, bodies: bool) -
             let local = [f % m[0], (f / m[0]) % m[1], f / (m[0] * m[1])];
             let at = slab.global(local);
             // Faces normal to d at i·h along d, at cell centres elsewhere.
-            let x = [0, 1, 2].map(|a| (at[a] as f64 + if a == d { 0.0 } else { 0.5 }) * h[a]);
+            let x = [0, 1, 2].map(|a| match (grid.is_graded(), a == d) {
+                (false, _) => (at[a] as f64 + if a == d { 0.0 } else { 0.5 }) * h[a],
+                (true, true) => grid.axes[a].face(at[a]),
+                (true, false) => grid.axes[a].centre(at[a] as i64),
+            });
             let (s, c) = ([x[0].sin(), x[1].sin()], [x[0].cos(), x[1].cos()]);
             *u = if d == 0 { s[0] * c[1] } else { -c[0] * s[1] } * x[2].cos();
         }
@@ -290,6 +326,18 @@ fn a_periodic_3d_vortex_gives_the_same_flow_on_1_2_and_3_ranks() {
             &taylor_green(n, Side::Periodic, ranks, 8, false),
             ranks,
         );
+    }
+}
+
+#[test]
+fn a_graded_box_gives_the_same_flow_on_1_2_and_3_ranks() {
+    // 14 cells along z (`Graded`), between walls: slabs of 7 on two ranks,
+    // of 5, 5 and 4 on three, each slab's cells of their own widths and the
+    // neighbours' beyond its sides.
+    let one = taylor_green_on(Box::new(Graded), Side::WALL, 1, 6, false);
+    for ranks in [2, 3] {
+        let many = taylor_green_on(Box::new(Graded), Side::WALL, ranks, 6, false);
+        assert_same(&one, &many, ranks);
     }
 }
 

@@ -22,11 +22,7 @@ fn decay(t: f64) -> f64 {
 /// Max errors of u and of p/ρ at the end on n² cells with Δt = courant·h.
 fn errors(n: usize, courant: f64) -> (f64, f64) {
     let h = 2.0 * PI / n as f64;
-    let grid = Grid {
-        n: [n, n, 1],
-        h: [h; 3],
-        bc: [[Bc::Periodic; 2]; 3],
-    };
+    let grid = Grid::uniform([n, n, 1], [h; 3], [[Bc::Periodic; 2]; 3]);
     let mut flow = Incompressible::new(FlowSetup {
         grid,
         sides: [[Side::Periodic; 2]; 3],
@@ -120,11 +116,7 @@ fn a_nearly_inviscid_periodic_flow_never_gains_energy_at_the_courant_limit() {
     let n = 64;
     let h = 2.0 * PI / n as f64;
     let mut flow = Incompressible::new(FlowSetup {
-        grid: Grid {
-            n: [n, n, 1],
-            h: [h; 3],
-            bc: [[Bc::Periodic; 2]; 3],
-        },
+        grid: Grid::uniform([n, n, 1], [h; 3], [[Bc::Periodic; 2]; 3]),
         sides: [[Side::Periodic; 2]; 3],
         density: 1.0,
         nu: 1e-6,

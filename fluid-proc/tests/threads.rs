@@ -25,11 +25,7 @@ fn steps_on(threads: usize) -> (Vec<Vec<f64>>, Vec<f64>, f64) {
         let mut sides = [[Side::WALL; 2]; 3];
         sides[2][1] = Side::Velocity([1.0, 0.0, 0.0]);
         let mut flow = Incompressible::new(FlowSetup {
-            grid: Grid {
-                n,
-                h: n.map(|n| 1.0 / n as f64),
-                bc: bcs(&sides),
-            },
+            grid: Grid::uniform(n, n.map(|n| 1.0 / n as f64), bcs(&sides)),
             sides,
             density: 1.0,
             nu: 0.01,

@@ -2,6 +2,7 @@
 //! "incompressible"`, dissertation §3.2.2): the box of cells `[fluid.box]` and
 //! what each of its sides does to the flow, `[fluid.sides]`.
 
+use crate::grading::Core;
 use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
@@ -44,22 +45,103 @@ pub fn body_halo_cells(h: [f64; 3], active: [bool; 3], axis: usize) -> u32 {
     (reach + 1).max(BODY_HALO_CELLS)
 }
 
-/// `[fluid.box]`: a uniform grid of cells over an axis-aligned box.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
+/// `[fluid.box]`: a grid of cells over an axis-aligned box: uniform, of
+/// `cells` cells, or graded from a fine core (`[fluid.box.core]`,
+/// `grading.rs`), whose counts follow from it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(from = "BoxKeys", into = "BoxKeys")]
 pub struct FlowBox {
     /// Lowest corner [m].
     pub lower: [f64; 3],
     /// Highest corner [m].
     pub upper: [f64; 3],
-    /// Cells along x, y, z; one cell along z makes a 2-D flow.
+    /// Cells along x, y, z (a graded box's from its core).
     pub cells: [u32; 3],
+    /// The fine core of a graded box.
+    pub core: Option<Core>,
+    /// Whether `cells` was given (which a graded box refuses).
+    cells_given: bool,
+}
+
+/// `[fluid.box]`: a grid of cells over an axis-aligned box: uniform, of
+/// `cells` cells, or graded from a fine core whose cells grow toward the
+/// sides (`[fluid.box.core]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+struct BoxKeys {
+    /// Lowest corner [m].
+    lower: [f64; 3],
+    /// Highest corner [m].
+    upper: [f64; 3],
+    /// Cells along x, y, z of a uniform box; one cell along z makes a 2-D
+    /// flow. Left out with a `[fluid.box.core]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    cells: Option<[u32; 3]>,
+    /// A fine core, the cells growing from it toward the sides.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    core: Option<Core>,
+}
+
+impl From<BoxKeys> for FlowBox {
+    fn from(k: BoxKeys) -> FlowBox {
+        let mut b = FlowBox {
+            lower: k.lower,
+            upper: k.upper,
+            cells: k.cells.unwrap_or([0; 3]),
+            core: k.core,
+            cells_given: k.cells.is_some(),
+        };
+        if let (None, Some(_)) = (k.cells, k.core) {
+            b.cells = [0, 1, 2].map(|d| b.widths(d).map_or(0, |w| w.len() as u32));
+        }
+        b
+    }
+}
+
+impl From<FlowBox> for BoxKeys {
+    fn from(b: FlowBox) -> BoxKeys {
+        BoxKeys {
+            lower: b.lower,
+            upper: b.upper,
+            cells: (b.core.is_none() || b.cells_given).then_some(b.cells),
+            core: b.core,
+        }
+    }
+}
+
+impl schemars::JsonSchema for FlowBox {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        BoxKeys::schema_name()
+    }
+
+    fn json_schema(generator: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        BoxKeys::json_schema(generator)
+    }
 }
 
 impl FlowBox {
-    /// Cell size per axis [m].
+    /// Cell size per axis [m]: a graded axis's finest (its core's).
     pub fn spacing(&self) -> [f64; 3] {
-        [0, 1, 2].map(|d| (self.upper[d] - self.lower[d]) / self.cells[d] as f64)
+        [0, 1, 2].map(|d| match self.widths(d) {
+            Some(w) => w.iter().copied().fold(f64::INFINITY, f64::min),
+            None => (self.upper[d] - self.lower[d]) / self.cells[d] as f64,
+        })
+    }
+
+    /// The box graded from `core`, its cells following from it.
+    pub fn with_core(self, core: Core) -> FlowBox {
+        let keys = BoxKeys {
+            cells: None,
+            core: Some(core),
+            ..BoxKeys::from(self)
+        };
+        FlowBox::from(keys)
+    }
+
+    /// The widths of the cells along axis d of a graded box [m] (None on a
+    /// uniform box, or where the core does not fit).
+    pub fn widths(&self, d: usize) -> Option<Vec<f64>> {
+        self.core?.widths(self.lower, self.upper, d)
     }
 
     pub fn check(&self, c: &mut Checker) {
@@ -75,7 +157,29 @@ impl FlowBox {
                     ),
                 );
             }
-            if self.cells.iter().any(|&n| n == 0 || (2..MIN_CELLS).contains(&n)) {
+            match (self.core, self.cells_given) {
+                (Some(core), given) => {
+                    core.check(c, self.lower, self.upper);
+                    if given {
+                        c.problem(
+                            &["cells"],
+                            "cells follow from [fluid.box.core] (its spacing and growth): \
+                             leave cells out, or the core"
+                                .into(),
+                        );
+                    }
+                }
+                (None, false) => c.problem(
+                    &["lower"],
+                    "the box needs its cells: `cells = [nx, ny, nz]`, or a fine core \
+                     [fluid.box.core] they grow from"
+                        .into(),
+                ),
+                (None, true) => {}
+            }
+            // A core that does not fit is refused above, and has no cells.
+            let unfit = self.core.is_some() && (0..3).any(|d| self.widths(d).is_none());
+            if !unfit && self.cells.iter().any(|&n| n == 0 || (2..MIN_CELLS).contains(&n)) {
                 c.problem(
                     &["cells"],
                     format!(

@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 pub mod flow;
 pub mod frame;
 pub mod gas;
+pub mod grading;
 mod porous_load;
 mod scene;
 

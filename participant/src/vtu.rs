@@ -103,12 +103,16 @@ pub fn write_vtu(path: &Path, piece: &Piece) -> io::Result<()> {
     write_atomic(path, &s)
 }
 
-/// Fields on a uniform box of cells: `cells` along x, y, z from `origin`,
-/// `spacing` apart, each field one value or one 3-vector per cell (x fastest).
+/// Fields on a box of cells: `cells` along x, y, z from `origin`,
+/// `spacing` apart, each field one value or one 3-vector per cell (x
+/// fastest). A graded box gives its cells' faces along each axis instead
+/// (`faces`, world coordinates [m]): it is written as rectilinear grid
+/// (`.vtr`).
 pub struct Image<'a> {
     pub origin: [f64; 3],
     pub spacing: [f64; 3],
     pub cells: [usize; 3],
+    pub faces: Option<&'a [Vec<f64>; 3]>,
     pub cell_data: Vec<(&'a str, usize, &'a [f64])>,
 }
 
@@ -124,6 +128,36 @@ pub fn write_vti(path: &Path, image: &Image) -> io::Result<()> {
         s,
         "<ImageData WholeExtent=\"{extent}\" Origin=\"{o}\" Spacing=\"{h}\">\n<Piece Extent=\"{extent}\">\n<CellData>"
     );
+    push_cell_data(&mut s, image);
+    s.push_str("</CellData>\n</Piece>\n</ImageData>\n</VTKFile>\n");
+    write_atomic(path, &s)
+}
+
+/// Write one `.vtr` file: a graded box's fields (`image.faces` given).
+pub fn write_vtr(path: &Path, image: &Image) -> io::Result<()> {
+    let [nx, ny, nz] = image.cells;
+    let extent = format!("0 {nx} 0 {ny} 0 {nz}");
+    let mut s = String::new();
+    s.push_str("<?xml version=\"1.0\"?>\n");
+    s.push_str("<VTKFile type=\"RectilinearGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
+    let _ = writeln!(
+        s,
+        "<RectilinearGrid WholeExtent=\"{extent}\">\n<Piece Extent=\"{extent}\">\n<Coordinates>"
+    );
+    for (axis, faces) in ["x", "y", "z"].iter().zip(image.faces.into_iter().flatten()) {
+        let _ = writeln!(
+            s,
+            "<DataArray type=\"Float64\" Name=\"{axis}\" format=\"ascii\">{}</DataArray>",
+            join(faces)
+        );
+    }
+    s.push_str("</Coordinates>\n<CellData>\n");
+    push_cell_data(&mut s, image);
+    s.push_str("</CellData>\n</Piece>\n</RectilinearGrid>\n</VTKFile>\n");
+    write_atomic(path, &s)
+}
+
+fn push_cell_data(s: &mut String, image: &Image) {
     for (name, comps, data) in &image.cell_data {
         let _ = writeln!(
             s,
@@ -131,12 +165,10 @@ pub fn write_vti(path: &Path, image: &Image) -> io::Result<()> {
             join(data)
         );
     }
-    s.push_str("</CellData>\n</Piece>\n</ImageData>\n</VTKFile>\n");
-    write_atomic(path, &s)
 }
 
-/// Read the cell field `name` of a `.vti` written by [`write_vti`] (for
-/// tests and tools).
+/// Read the cell field `name` of a `.vti` or `.vtr` written by
+/// [`write_vti`] or [`write_vtr`] (for tests and tools).
 pub fn read_cell_data(path: &Path, name: &str) -> io::Result<Vec<f64>> {
     let text = std::fs::read_to_string(path)?;
     let tag = format!("Name=\"{name}\"");
@@ -193,9 +225,13 @@ impl Series {
         self.add(index, time, "vtu", |path| write_vtu(path, piece))
     }
 
-    /// The same for fields on a box of cells (a `.vti` file).
+    /// The same for fields on a box of cells (a `.vti` file; `.vtr` for a
+    /// graded box).
     pub fn write_image(&mut self, index: u64, time: f64, image: &Image) -> io::Result<PathBuf> {
-        self.add(index, time, "vti", |path| write_vti(path, image))
+        match image.faces {
+            None => self.add(index, time, "vti", |path| write_vti(path, image)),
+            Some(_) => self.add(index, time, "vtr", |path| write_vtr(path, image)),
+        }
     }
 
     fn add(

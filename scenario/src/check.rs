@@ -103,8 +103,9 @@ impl Checker {
     }
 
     /// Notes that the key at `keys` is held to `rule`, when rules are
-    /// being gathered ([`recording_rules`]).
-    fn rule(&self, keys: &[&str], rule: impl FnOnce() -> String) {
+    /// being gathered ([`recording_rules`]): the typed checks do, and a
+    /// check of its own states its rule so.
+    pub fn rule(&self, keys: &[&str], rule: impl FnOnce() -> String) {
         RECORDING.with(|r| {
             if let Some(rules) = r.borrow_mut().as_mut() {
                 let key = (self.prefix.iter())

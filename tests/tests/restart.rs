@@ -234,19 +234,30 @@ fn a_killed_canopy_in_the_flow_restarts_to_the_same_results() {
     rank_1_wrote_its_part(&dir, &fluid);
 }
 
-/// The same with the box following the canopy (`[fluid.frame]`): the box's
-/// place and motion go into each rank's run checkpoint, and the window it
-/// resumes aims the box as the whole run did.
+/// The same with the box following the canopy (`[fluid.frame]`), graded
+/// along z from a core of 0.15 m round the canopy (`[fluid.box.core]`,
+/// issue 45): the box's place and motion go into each rank's run
+/// checkpoint, and the window it resumes aims the box as the whole run did.
 #[test]
-fn a_killed_box_that_follows_the_canopy_restarts_to_the_same_results() {
+fn a_killed_graded_box_that_follows_the_canopy_restarts_to_the_same_results() {
     let dir = scratch("restart-frame");
     let fluid = mpi_fluid_proc();
     let scenario = short_canopy_flow(&dir, &fluid, |s| {
-        s.fluid.as_mut().unwrap().frame = Some(fluid_section::frame::FrameSpec {
+        let f = s.fluid.as_mut().unwrap();
+        f.frame = Some(fluid_section::frame::FrameSpec {
             follow: "canopy".into(),
             velocity: None,
             altitude: None,
         });
+        let core = fluid_section::grading::Core {
+            lower: [-1.5, -1.5, -0.6],
+            upper: [1.5, 1.5, 0.9],
+            spacing: 0.15,
+            growth: 1.2,
+        };
+        let b = f.flow_box.as_mut().unwrap();
+        *b = b.with_core(core);
+        assert_eq!(b.cells, [20, 20, 20], "the graded box's cells");
     });
     restart_matches_whole_run("canopy-flow", &scenario, &dir, &["fluid", "structure"]);
     let m = Monitors::read(&dir.join("whole"));

@@ -160,6 +160,7 @@ impl Model for Gas {
             origin: self.origin,
             spacing: self.gas.setup.h,
             cells: self.gas.setup.n,
+            faces: None,
             fields: vec![
                 ("density", 1, density),
                 ("velocity", 3, velocity),

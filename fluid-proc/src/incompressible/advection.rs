@@ -6,7 +6,13 @@
 //!   a-faces (second order);
 //! - û_c, the advected value, is the upwind WENO5 reconstruction from the
 //!   five faces on the side ū_a comes from (§3.2.1, `weno5.rs`).
+//!
+//! On a graded axis the averages and the reconstruction are taken in the
+//! cells' index (the mapped grid's coordinate, second order where the widths
+//! vary smoothly) and the difference of the fluxes divides by the control
+//! length (`metric.rs`).
 
+use crate::incompressible::metric::Metric;
 use crate::incompressible::padded::Padded;
 use crate::incompressible::rows;
 use crate::weno5::reconstruct;
@@ -18,7 +24,7 @@ use crate::weno5::reconstruct;
 pub fn advection(
     u: &[Option<Padded>; 3],
     c: usize,
-    h: [f64; 3],
+    metric: &Metric,
     flux: &mut [f64],
     out: &mut [f64],
 ) {
@@ -60,12 +66,15 @@ pub fn advection(
                 flux[row.offset + i] = v * value;
             }
         });
-        let inv_h = 1.0 / h[a];
+        // 1/(control length) along a, per padded index (1/h if uniform).
+        let inv = &metric.axes[a].inv_len;
         let flux = &*flux;
         rows::each(&lay, unknown, [&mut *out], |row, [out]| {
+            let first = [0, 1, 2].map(|t| (row.first[t] + lay.g[t] as isize) as usize);
             for i in 0..row.len {
                 let p = row.at + i;
-                out[row.offset + i] += (flux[p] - flux[p - s]) * inv_h;
+                let k = first[a] + if a == 0 { i } else { 0 };
+                out[row.offset + i] += (flux[p] - flux[p - s]) * inv[k];
             }
         });
     }

@@ -61,9 +61,9 @@ fn for_cells_near(
         if grid.n[d] == 1 {
             return (0, 0);
         }
-        let h = grid.h[d];
-        let first = ((lo[d] - reach) / h - 0.5).ceil() as i64;
-        let last = ((hi[d] + reach) / h - 0.5).floor() as i64;
+        let a = &grid.axes[d];
+        let first = (a.coordinate(lo[d] - reach) - 0.5).ceil() as i64;
+        let last = (a.coordinate(hi[d] + reach) - 0.5).floor() as i64;
         (first, last)
     });
     for k in range[2].0..=range[2].1 {
@@ -85,7 +85,7 @@ fn for_cells_near(
                 // A 2-D flow's one cell stands at its own centre.
                 let centre = [0, 1, 2].map(|d| match grid.n[d] {
                     1 => 0.5 * grid.h[d],
-                    _ => (c[d] as f64 + 0.5) * grid.h[d],
+                    _ => grid.axes[d].centre(c[d]),
                 });
                 if inside {
                     f(grid.index(index), Point3::from(centre));
@@ -346,11 +346,7 @@ mod tests {
     fn a_step_across_a_sheet_is_read_exactly() {
         let n = [32, 16, 16];
         let h = 1.0 / 16.0;
-        let grid = Grid {
-            n,
-            h: [h; 3],
-            bc: [[Bc::Periodic; 2]; 3],
-        };
+        let grid = Grid::uniform(n, [h; 3], [[Bc::Periodic; 2]; 3]);
         let x0 = 1.03;
         // Two triangles spanning the box's y–z section at x₀, normal +x.
         let (ly, lz) = (1.0, 1.0);

@@ -6,6 +6,7 @@
 
 use crate::incompressible::advection::advection;
 use crate::incompressible::grid::Grid;
+use crate::incompressible::metric::Metric;
 use crate::incompressible::padded::Padded;
 use crate::incompressible::part::Halo;
 use crate::incompressible::projection::gradients;
@@ -26,6 +27,8 @@ pub(crate) struct Work {
     grad_q: Vec<f64>,
     /// δ = u* − uⁿ, kept as the next step's first guess.
     pub(crate) delta: Padded,
+    /// The component's lengths along each axis (`metric.rs`).
+    metric: Metric,
     helmholtz: Helmholtz,
 }
 
@@ -41,6 +44,7 @@ impl Work {
             flux: vec![0.0; len],
             grad_q: vec![0.0; grid.n.iter().product::<usize>() / grid.n[c] * (grid.n[c] + 1)],
             helmholtz: Helmholtz::new(&delta),
+            metric: Metric::of(grid, c, &delta.lay),
             delta,
         }
     }
@@ -64,13 +68,13 @@ impl ChangeInputs<'_> {
     /// Component `c`'s change δ into `w.delta`, with Nⁿ; the Helmholtz
     /// iterations.
     pub(crate) fn component(&self, c: usize, w: &mut Work) -> Result<usize, ViscousError> {
-        let (grid, h, nu, dt, ab) = (self.grid, self.grid.h, self.nu, self.dt, self.ab);
+        let (grid, nu, dt, ab) = (self.grid, self.nu, self.dt, self.ab);
         let u = self.padded[c]
             .as_ref()
             .expect("a padded array for each worked component");
         w.n.rotate_right(1);
-        advection(self.padded, c, h, &mut w.flux, &mut w.n[0]);
-        laplacian(u, h, &mut w.lap);
+        advection(self.padded, c, &w.metric, &mut w.flux, &mut w.n[0]);
+        laplacian(u, &w.metric, &mut w.lap);
         // The change over the step solves (I − αL)δ = Δt(−N^{n+½} − ∇q + νLuⁿ),
         // which is eq. (3.18) less (I − αL)uⁿ.
         gradients(grid, self.q, self.halo, c, &mut w.grad_q, |g, grad| {
@@ -90,7 +94,7 @@ impl ChangeInputs<'_> {
         });
         let alpha = 0.5 * nu * dt;
         w.helmholtz
-            .solve(self.sides, h, alpha, &w.b, &mut w.delta, VISCOUS_TOLERANCE)
+            .solve(self.sides, &w.metric, alpha, &w.b, &mut w.delta, VISCOUS_TOLERANCE)
     }
 }
 

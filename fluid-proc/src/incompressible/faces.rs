@@ -74,21 +74,25 @@ pub fn for_each_cell_faces(n: [usize; 3], mut f: impl FnMut(usize, [usize; 3], [
     }
 }
 
-/// div[c] = Σ_d (u_d above − u_d below)/h_d [1/s].
+/// div[c] = Σ_d (u_d above − u_d below)/w_d, w_d the cell's width along d
+/// (h_d on a uniform axis) [1/s].
 pub fn divergence(g: &Grid, u: &Faces, div: &mut [f64]) {
-    let inv_h = g.h.map(|h| 1.0 / h);
     let n = g.n;
+    let inv_w: [Vec<f64>; 3] =
+        [0, 1, 2].map(|d| (0..n[d]).map(|i| 1.0 / g.axes[d].width(i as isize)).collect());
     // Faces normal to d: their counts, and the step from the face below a
     // cell to the one above it.
     let m = [0, 1, 2].map(|d| face_counts(n, d));
     let up = [0, 1, 2].map(|d| [1, m[d][0], m[d][0] * m[d][1]][d]);
     rows::each_plain(div, n, |j, k, row| {
         let first = m.map(|m| m[0] * (j + m[1] * k));
+        let inv = [0, j, k];
         for (i, out) in row.iter_mut().enumerate() {
             *out = (0..3)
                 .map(|d| {
                     let below = first[d] + i;
-                    (u.u[d][below + up[d]] - u.u[d][below]) * inv_h[d]
+                    let at = if d == 0 { i } else { inv[d] };
+                    (u.u[d][below + up[d]] - u.u[d][below]) * inv_w[d][at]
                 })
                 .sum();
         }

@@ -1,8 +1,11 @@
-//! A uniform box of cells for the cell-centred pressure (dissertation §3.2.2):
-//! sizes, spacing, and what each of the six sides imposes on the pressure
-//! correction φ. A 2-D flow is one cell thick in z with periodic z sides.
+//! A box of cells for the cell-centred pressure (dissertation §3.2.2):
+//! sizes, the cells along each axis (uniform or graded, `axis.rs`), and
+//! what each of the six sides imposes on the pressure correction φ. A 2-D
+//! flow is one cell thick in z with periodic z sides.
 //!
 //! Cells are numbered x fastest: `i + nx·(j + ny·k)`.
+
+use crate::incompressible::axis::Axis;
 
 /// What a side of the box imposes on φ in the projection (eq. 3.19).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -26,16 +29,56 @@ pub enum Neighbour {
     Side(Bc),
 }
 
-/// A box of `n` cells with spacings `h` and one condition per side
-/// (`bc[d] = [low, high]` along axis d).
+/// A box of `n` cells and one condition per side (`bc[d] = [low, high]`
+/// along axis d).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
     pub n: [usize; 3],
+    /// The spacing along each axis: a graded axis's finest, its core's.
     pub h: [f64; 3],
     pub bc: [[Bc; 2]; 3],
+    /// The cells' widths along each axis.
+    pub axes: [Axis; 3],
 }
 
 impl Grid {
+    /// A box of `n` cells of spacings `h`.
+    pub fn uniform(n: [usize; 3], h: [f64; 3], bc: [[Bc; 2]; 3]) -> Grid {
+        Grid {
+            n,
+            h,
+            bc,
+            axes: [0, 1, 2].map(|d| Axis::uniform(n[d], h[d])),
+        }
+    }
+
+    /// A box of the cells of `axes`.
+    pub fn of_axes(axes: [Axis; 3], bc: [[Bc; 2]; 3]) -> Grid {
+        Grid {
+            n: [0, 1, 2].map(|d| axes[d].n()),
+            h: [0, 1, 2].map(|d| axes[d].width_range().0),
+            bc,
+            axes,
+        }
+    }
+
+    /// Whether any axis is graded.
+    pub fn is_graded(&self) -> bool {
+        self.axes.iter().any(|a| !a.is_uniform())
+    }
+
+    /// Volume of cell `c` [m³].
+    pub fn volume(&self, c: [usize; 3]) -> f64 {
+        (0..3).map(|d| self.axes[d].width(c[d] as isize)).product()
+    }
+
+    /// Each cell's volume, in the cells' order, on a graded box (None on a
+    /// uniform one, where every cell's is Π h).
+    pub fn volumes(&self) -> Option<Vec<f64>> {
+        self.is_graded()
+            .then(|| (0..self.cells()).map(|i| self.volume(self.coords(i))).collect())
+    }
+
     pub fn cells(&self) -> usize {
         self.n[0] * self.n[1] * self.n[2]
     }
@@ -70,7 +113,7 @@ impl Grid {
     }
 
     /// The finest and the coarsest spacing over the axes more than one
-    /// cell thick (a 2-D flow's thin axis left out) [m].
+    /// cell thick (a 2-D flow's thin axis left out; a graded axis's core) [m].
     pub fn spacing_range(&self) -> (f64, f64) {
         (0..3)
             .filter(|&d| self.n[d] > 1)
@@ -100,6 +143,7 @@ impl Grid {
             if n.is_multiple_of(2) && n >= min {
                 g.n[d] = n / 2;
                 g.h[d] = 2.0 * self.h[d];
+                g.axes[d] = self.axes[d].coarsened(self.bc[d][0] == Bc::Periodic);
                 any = true;
             }
         }

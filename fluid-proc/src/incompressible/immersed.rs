@@ -247,7 +247,7 @@ impl Reach {
         for d in 0..3 {
             let n = grid.n[d] as i64;
             let shift = if d == c { 0.0 } else { 0.5 };
-            let (first, w) = stencil(x[d] / grid.h[d] - shift);
+            let (first, w) = stencil(grid.axes[d].coordinate(x[d]) - shift);
             for j in 0..WIDTH {
                 let i = first + j as i64;
                 let periodic = grid.bc[d][0] == Bc::Periodic;

@@ -9,6 +9,11 @@
 //! beside it start (or that a side is there), so the inner loop over a line
 //! holds no index arithmetic beyond ±1 and the line offsets.
 //!
+//! On a graded axis (`axis.rs`) the term of the face between cells i and
+//! i + 1 is (φ_{i+1} − φ_i)/(w_i·g_{i+1}): the finite-volume stencil, whose
+//! rows scaled by the cells' volumes V are symmetric, so A is self-adjoint
+//! in the inner product Σ V x y that the solve then takes (`poisson.rs`).
+//!
 //! On a rank's slab (`part.rs`) a side toward another rank reads that
 //! rank's cells from a halo plane, which the caller fills first; the
 //! red–black colours follow the cells' places in the whole box.
@@ -29,24 +34,29 @@ const CELLS_PER_TASK: usize = 4096;
 pub struct Line {
     pub start: usize,
     pub beside: [Option<usize>; 4],
+    /// The weights of the lines beside it, 1/(w·g) [1/m²].
+    pub weight: [f64; 4],
     /// Where the line's row starts in the halo plane below and above,
     /// where another rank's cells are there (the slab's axis, y or z).
     pub halo: [Option<usize>; 2],
+    /// The weights of the halo rows below and above [1/m²].
+    pub halo_weight: [f64; 2],
 }
 
 /// A = −∇²ₕ on one grid, ready to apply and to smooth with.
 #[derive(Debug, Clone)]
 pub struct Stencil {
     pub grid: Grid,
-    /// 1/h² per axis [1/m²].
-    w: [f64; 3],
+    /// 1/h² along a uniform x [1/m²].
+    w: f64,
+    /// Along a graded x, the weights of each cell's neighbours below and
+    /// above (empty on a uniform x).
+    x_weights: [Vec<f64>; 2],
     /// A's diagonal per cell.
     pub diag: Vec<f64>,
     lines: Vec<Line>,
     /// x wraps (periodic and more than one cell).
     x_wraps: bool,
-    /// 1/h² along the slab's axis, where a side faces another rank.
-    halo_weight: f64,
     /// The first cell's place along the slab's axis in the whole box, mod 2.
     parity: usize,
 }
@@ -89,10 +99,17 @@ impl Stencil {
                     row[d] = 0;
                     (at_side && g.bc[d][up as usize] == Bc::Rank).then(|| g.index(row))
                 });
+                let weight = [(1, j, false), (1, j, true), (2, k, false), (2, k, true)]
+                    .map(|(d, c, up)| face_weight(g, d, c, up));
+                let halo_weight = [false, true].map(|up| {
+                    rank_axis.map_or(0.0, |d| face_weight(g, d, [0, j, k][d], up))
+                });
                 lines.push(Line {
                     start,
                     beside: off.map(|o| o.map(|o| (start as isize + o) as usize)),
+                    weight,
                     halo,
+                    halo_weight,
                 });
             }
         }
@@ -102,13 +119,17 @@ impl Stencil {
                 (0..6).map(|t| diagonal_term(g, c, t / 2, t % 2 == 1)).sum()
             })
             .collect();
+        let x_weights = match g.axes[0].is_uniform() {
+            true => [Vec::new(), Vec::new()],
+            false => [false, true].map(|up| (0..nx).map(|i| face_weight(g, 0, i, up)).collect()),
+        };
         Stencil {
             grid: g.clone(),
-            w: g.h.map(|h| 1.0 / (h * h)),
+            w: 1.0 / (g.h[0] * g.h[0]),
+            x_weights,
             diag,
             lines,
             x_wraps: nx > 1 && g.bc[0][0] == Bc::Periodic,
-            halo_weight: rank_axis.map_or(0.0, |d| 1.0 / (g.h[d] * g.h[d])),
             parity: offset % 2,
         }
     }
@@ -118,9 +139,9 @@ impl Stencil {
     fn rows(&self, line: &Line) -> ([(usize, f64); 4], usize) {
         let mut rows = [(0, 0.0); 4];
         let mut count = 0;
-        for (t, b) in line.beside.iter().enumerate() {
+        for (b, &w) in line.beside.iter().zip(&line.weight) {
             if let Some(b) = b {
-                rows[count] = (*b, self.w[1 + t / 2]);
+                rows[count] = (*b, w);
                 count += 1;
             }
         }
@@ -129,12 +150,12 @@ impl Stencil {
 
     /// The rows of `halo` beside `line` (none inside a slab).
     #[inline(always)]
-    fn halo_rows<'a>(&self, line: &Line, halo: &'a Halo) -> ([&'a [f64]; 2], usize) {
-        let mut rows: [&[f64]; 2] = [&[], &[]];
+    fn halo_rows<'a>(&self, line: &Line, halo: &'a Halo) -> ([(&'a [f64], f64); 2], usize) {
+        let mut rows: [(&[f64], f64); 2] = [(&[], 0.0), (&[], 0.0)];
         let mut count = 0;
-        for (h, row) in halo.iter().zip(line.halo) {
+        for ((h, row), w) in halo.iter().zip(line.halo).zip(line.halo_weight) {
             if let Some(row) = row {
-                rows[count] = &h[row..row + self.grid.n[0]];
+                rows[count] = (&h[row..row + self.grid.n[0]], w);
                 count += 1;
             }
         }
@@ -150,28 +171,31 @@ impl Stencil {
         x: impl Fn(usize) -> f64,
         start: usize,
         rows: &[(usize, f64)],
-        beyond: &[&[f64]],
+        beyond: &[(&[f64], f64)],
         i: usize,
     ) -> f64 {
         let nx = self.grid.n[0];
         let c = start + i;
-        let mut sx = 0.0;
-        if i > 0 {
-            sx += x(c - 1);
-        } else if self.x_wraps {
-            sx += x(c + nx - 1);
-        }
-        if i + 1 < nx {
-            sx += x(c + 1);
-        } else if self.x_wraps {
-            sx += x(start);
-        }
-        let mut s = self.w[0] * sx;
+        let below = match (i > 0, self.x_wraps) {
+            (true, _) => Some(c - 1),
+            (false, true) => Some(c + nx - 1),
+            (false, false) => None,
+        };
+        let above = match (i + 1 < nx, self.x_wraps) {
+            (true, _) => Some(c + 1),
+            (false, true) => Some(start),
+            (false, false) => None,
+        };
+        let value = |n: Option<usize>| n.map_or(0.0, &x);
+        let mut s = match &self.x_weights {
+            [lo, hi] if !lo.is_empty() => lo[i] * value(below) + hi[i] * value(above),
+            _ => self.w * (value(below) + value(above)),
+        };
         for &(b, w) in rows {
             s += w * x(b + i);
         }
-        for h in beyond {
-            s += self.halo_weight * h[i];
+        for (h, w) in beyond {
+            s += w * h[i];
         }
         s
     }
@@ -259,9 +283,17 @@ fn as_atomic(x: &mut [f64]) -> &[AtomicU64] {
     unsafe { &*(x as *mut [f64] as *const [AtomicU64]) }
 }
 
+/// The weight 1/(w·g) of the face of cell i along d below (`up = false`)
+/// or above it: a side's gap as a mirrored ghost's (`axis.rs`) [1/m²].
+fn face_weight(g: &Grid, d: usize, i: usize, up: bool) -> f64 {
+    let a = &g.axes[d];
+    let i = i as isize;
+    1.0 / (a.width(i) * a.gap(i + up as isize))
+}
+
 /// What the face of cell `c` along d (below or above) puts on the diagonal.
 fn diagonal_term(g: &Grid, c: [usize; 3], d: usize, up: bool) -> f64 {
-    let w = 1.0 / (g.h[d] * g.h[d]);
+    let w = face_weight(g, d, c[d], up);
     match g.neighbour(c, d, up) {
         Neighbour::Cell(m) if m == g.index(c) => 0.0,
         Neighbour::Cell(_) | Neighbour::Side(Bc::Rank) => w,

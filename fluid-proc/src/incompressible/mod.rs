@@ -22,23 +22,27 @@
 //! and the fields it returns are the slab's, and the sums and extrema it
 //! returns are the whole box's.
 
-// The box and its sides: cells and pressure sides (`grid.rs`), velocity
-// sides (`side.rs`), the scenario's flow (`setup.rs`), the slab of it on
-// each rank (`part.rs`) and the face velocities with the ghost layers
-// that carry the sides (`faces.rs`, `padded.rs`).
+// The box and its sides: cells and pressure sides (`grid.rs`), the cells'
+// widths along each axis, uniform or graded (`axis.rs`), velocity sides
+// (`side.rs`), the scenario's flow (`setup.rs`), the slab of it on each
+// rank (`part.rs`) and the face velocities with the ghost layers that
+// carry the sides (`faces.rs`, `padded.rs`).
+pub mod axis;
 pub mod faces;
 pub mod grid;
 pub mod padded;
 pub mod part;
 pub mod setup;
 pub mod side;
-// The step: WENO5 advection, the Crank–Nicolson viscous solve, the
-// pressure operator and its multigrid-preconditioned solve, the
+// The step: WENO5 advection, the Crank–Nicolson viscous solve (the lengths
+// their stencils read, `metric.rs`), the pressure operator and its
+// multigrid-preconditioned solve, the
 // projection; every loop on the pool's threads, the same to the bit on
 // any number of them (`rows.rs`).
 pub mod advection;
 mod component;
 pub mod laplacian;
+pub mod metric;
 pub mod multigrid;
 pub mod poisson;
 pub mod prediction;
@@ -173,7 +177,7 @@ impl Incompressible {
         let grid = part.local_grid(&global);
         // From the whole box, so that every rank has the same components.
         let active = |c: usize| global.n[c] > 1;
-        let padded = [0, 1, 2].map(|c| active(c).then(|| Padded::on(&part, c)));
+        let padded = [0, 1, 2].map(|c| active(c).then(|| Padded::on(&part, &global, c)));
         let work = padded.clone().map(|p| p.map(|p| Work::new(p, &grid)));
         let mut flow = Incompressible {
             u: Faces::zeros(&grid),
@@ -311,19 +315,33 @@ impl Incompressible {
 
     /// Kinetic energy ½ρΣ|u|²V over the cells, from the cell velocities [J].
     pub fn kinetic_energy(&self) -> f64 {
-        let volume: f64 = self.setup.grid.h.iter().product();
-        let mut sum = 0.0;
-        self.for_each_cell_velocity(|_, v| sum += v.iter().map(|x| x * x).sum::<f64>());
-        0.5 * self.setup.density * self.part.sum(sum) * volume
+        let (sum, volume) = self.cell_sums(1, |v, out| out[0] = v.iter().map(|x| x * x).sum());
+        0.5 * self.setup.density * sum[0] * volume
     }
 
     /// Momentum ρΣuV over the cells, from the cell velocities [kg·m/s].
     pub fn momentum(&self) -> [f64; 3] {
-        let volume: f64 = self.setup.grid.h.iter().product();
-        let mut sum = [0.0; 3];
-        self.for_each_cell_velocity(|_, v| (0..3).for_each(|d| sum[d] += v[d]));
+        let (sum, volume) = self.cell_sums(3, |v, out| out.copy_from_slice(&v));
+        [0, 1, 2].map(|d| self.setup.density * sum[d] * volume)
+    }
+
+    /// Σ_cells f(velocity)·V over the whole box, `k` sums at once, as the
+    /// sums and a factor: on a uniform grid the plain sums and the one cell
+    /// volume, on a graded one the sums weighed by each cell's and 1.
+    fn cell_sums(&self, k: usize, f: impl Fn([f64; 3], &mut [f64])) -> (Vec<f64>, f64) {
+        let mut sum = vec![0.0; k];
+        let mut value = vec![0.0; k];
+        let graded = self.local.is_graded();
+        self.for_each_cell_velocity(|c, v| {
+            f(v, &mut value);
+            let volume = if graded { self.local.volume(self.local.coords(c)) } else { 1.0 };
+            for (s, x) in sum.iter_mut().zip(&value) {
+                *s += if graded { x * volume } else { *x };
+            }
+        });
         self.part.comm.sum(&mut sum);
-        sum.map(|s| self.setup.density * s * volume)
+        let volume: f64 = if graded { 1.0 } else { self.setup.grid.h.iter().product() };
+        (sum, volume)
     }
 
     /// Largest |∇·u| over the cells [1/s].
@@ -342,10 +360,13 @@ impl Incompressible {
     /// Σ_a |u_a|·Δt/h_a (the cell velocities), which bounds how far the
     /// explicit advection reaches in one step whatever the flow's direction.
     pub fn courant(&self, dt: f64) -> f64 {
-        let inv_h = self.setup.grid.h.map(|h| 1.0 / h);
+        let g = &self.local;
+        let inv_w: [Vec<f64>; 3] =
+            [0, 1, 2].map(|d| (0..g.n[d]).map(|i| 1.0 / g.axes[d].width(i as isize)).collect());
         let mut most: f64 = 0.0;
-        self.for_each_cell_velocity(|_, v| {
-            most = most.max((0..3).map(|a| v[a].abs() * inv_h[a]).sum::<f64>());
+        self.for_each_cell_velocity(|c, v| {
+            let x = g.coords(c);
+            most = most.max((0..3).map(|a| v[a].abs() * inv_w[a][x[a]]).sum::<f64>());
         });
         self.part.max(most) * dt
     }

@@ -3,9 +3,11 @@
 //! the iteration count flat as the grid is refined, so the pressure solve
 //! costs O(cells).
 //!
-//! Cell-centred coarsening halves every axis that can; restriction averages
-//! the children, prolongation copies the parent to them (R = Pᵀ/2^d), and the
-//! coarse operators are rediscretised. Symmetric red–black Gauss–Seidel
+//! Cell-centred coarsening halves every axis that can (a graded axis merges
+//! pairs of cells, `axis.rs`); restriction averages the children weighted
+//! by their volumes (R = V_c⁻¹PᵀV, plainly Pᵀ/2^d on a uniform grid),
+//! prolongation copies the parent to them, and the coarse operators are
+//! rediscretised. Symmetric red–black Gauss–Seidel
 //! (red then black before the coarse correction, black then red after) keeps
 //! the V-cycle symmetric, as conjugate gradients need.
 //!
@@ -49,8 +51,11 @@ struct Level {
     /// cell p are `kids[first_kid[p]..first_kid[p + 1]]`.
     first_kid: Vec<usize>,
     kids: Vec<usize>,
-    /// Children per coarse cell (2^axes halved).
-    children: f64,
+    /// Each cell's share of its parent's volume (2^−axes halved on a
+    /// uniform grid).
+    share: Vec<f64>,
+    /// Each cell's volume where the grid is graded (`Grid::volumes`).
+    volumes: Option<Vec<f64>>,
 }
 
 pub struct Multigrid {
@@ -117,18 +122,25 @@ impl Multigrid {
             .enumerate()
             .map(|(l, (g, part))| {
                 let cells = g.cells();
-                let (parent, children) = match locals.get(l + 1) {
+                let (parent, share) = match locals.get(l + 1) {
                     Some(c) => {
                         let ratio: Vec<usize> = (0..3).map(|d| g.n[d] / c.n[d]).collect();
-                        let parent = (0..cells)
+                        let of = |f: [usize; 3]| [0, 1, 2].map(|d| f[d] / ratio[d]);
+                        let parent = (0..cells).map(|i| c.index(of(g.coords(i)))).collect();
+                        let share = (0..cells)
                             .map(|i| {
-                                let f = g.coords(i);
-                                c.index([f[0] / ratio[0], f[1] / ratio[1], f[2] / ratio[2]])
+                                let (f, p) = (g.coords(i), of(g.coords(i)));
+                                (0..3)
+                                    .map(|d| {
+                                        g.axes[d].width(f[d] as isize)
+                                            / c.axes[d].width(p[d] as isize)
+                                    })
+                                    .product()
                             })
                             .collect();
-                        (parent, ratio.iter().product::<usize>() as f64)
+                        (parent, share)
                     }
-                    None => (Vec::new(), 1.0),
+                    None => (Vec::new(), Vec::new()),
                 };
                 let coarse_cells = locals.get(l + 1).map_or(0, |c| c.cells());
                 let (first_kid, kids) = children_of(&parent, coarse_cells);
@@ -142,7 +154,8 @@ impl Multigrid {
                     parent,
                     first_kid,
                     kids,
-                    children,
+                    share,
+                    volumes: g.volumes(),
                 }
             })
             .collect();
@@ -171,7 +184,8 @@ impl Multigrid {
         self.cycle(0);
         rows::copy(z, &self.levels[0].x);
         if self.singular {
-            remove_mean(z, &self.levels[0].part);
+            let f = &self.levels[0];
+            remove_mean(z, &f.part, f.volumes.as_deref());
         }
     }
 
@@ -203,7 +217,7 @@ impl Multigrid {
                 sweep(level, 0);
             }
             if self.singular {
-                remove_mean(&mut level.x, &level.part);
+                remove_mean(&mut level.x, &level.part, level.volumes.as_deref());
             }
             return;
         }
@@ -221,7 +235,7 @@ impl Multigrid {
         rows::for_each(&mut c.b, |b, p| {
             *b = 0.0;
             for &i in &f.kids[f.first_kid[p]..f.first_kid[p + 1]] {
-                *b += f.r[i] / f.children;
+                *b += f.r[i] * f.share[i];
             }
         });
         self.cycle(l + 1);
@@ -245,12 +259,26 @@ fn sweep(level: &mut Level, colour: usize) {
         .gauss_seidel(&level.b, &mut level.x, &level.halo, colour);
 }
 
-/// Takes the mean over the whole box (all of `part`'s ranks) from `x`.
-pub fn remove_mean(x: &mut [f64], part: &Part) {
-    let count = part.slab.n.iter().product::<usize>() as f64;
-    // The sum on one thread, in the cells' order (`rows.rs` says why).
-    let mean = part.sum(x.iter().sum::<f64>()) / count;
+/// Takes the mean over the whole box (all of `part`'s ranks) from `x`:
+/// weighted by the cells' `volumes` on a graded grid.
+pub fn remove_mean(x: &mut [f64], part: &Part, volumes: Option<&[f64]>) {
+    let mean = mean(x, part, volumes);
     rows::for_each(x, |v, _| *v -= mean);
+}
+
+/// The mean of `x` over the whole box, weighted by `volumes` where given.
+pub fn mean(x: &[f64], part: &Part, volumes: Option<&[f64]>) -> f64 {
+    // The sums on one thread, in the cells' order (`rows.rs` says why).
+    match volumes {
+        None => {
+            let count = part.slab.n.iter().product::<usize>() as f64;
+            part.sum(x.iter().sum::<f64>()) / count
+        }
+        Some(v) => {
+            let weighted: f64 = x.iter().zip(v).map(|(x, v)| x * v).sum();
+            part.sum(weighted) / part.sum(v.iter().sum::<f64>())
+        }
+    }
 }
 
 /// The children of each of `coarse` cells from the fine cells' parents, as

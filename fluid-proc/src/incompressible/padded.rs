@@ -14,7 +14,9 @@
 //! An axis one cell thick (the z of a 2-D flow) has no ghosts: it is
 //! periodic, and nothing varies along it.
 
+use crate::incompressible::axis::Axis;
 use crate::incompressible::faces::Faces;
+use crate::incompressible::grid::Grid;
 use crate::incompressible::part::Part;
 use crate::incompressible::rows;
 use crate::incompressible::side::{parabola, Side, Sides};
@@ -30,11 +32,13 @@ pub struct Padded {
     pub lay: Layout,
     pub data: Vec<f64>,
     part: Part,
+    /// The whole box's axes, for where a line lies across a parabolic side.
+    axes: [Axis; 3],
 }
 
 impl Padded {
-    /// On this rank's slab of the box.
-    pub fn on(part: &Part, c: usize) -> Padded {
+    /// On this rank's slab of the box `grid`.
+    pub fn on(part: &Part, grid: &Grid, c: usize) -> Padded {
         let n = part.slab.cells();
         let sides = part.local_sides();
         // The faces normal to c: one more than the cells along c.
@@ -51,6 +55,7 @@ impl Padded {
             lay,
             data: vec![0.0; dims.iter().product()],
             part: part.clone(),
+            axes: grid.axes.clone(),
         }
     }
 
@@ -153,11 +158,17 @@ impl Padded {
                 i += slab.lo as f64;
                 m += slab.n[t] - (slab.hi - slab.lo);
             }
-            // Faces along c sit at i·h, cells elsewhere at (i + ½)·h.
-            let s = if t == self.c {
-                i / (m - 1) as f64
-            } else {
-                (i + 0.5) / m as f64
+            // Faces along c sit at i·h, cells elsewhere at (i + ½)·h; on a
+            // graded axis, where its faces and centres are.
+            let axis = &self.axes[t];
+            let s = match (axis.is_uniform(), t == self.c) {
+                (true, true) => i / (m - 1) as f64,
+                (true, false) => (i + 0.5) / m as f64,
+                (false, true) => {
+                    let f = (i.max(0.0) as usize).min(axis.n());
+                    axis.face(f) / axis.length() + (i - f as f64)
+                }
+                (false, false) => axis.centre(i as i64) / axis.length(),
             };
             // A ghost line beyond a wall takes the wall's value (zero).
             f *= parabola(s.clamp(0.0, 1.0));

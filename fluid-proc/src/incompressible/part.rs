@@ -81,10 +81,14 @@ impl Part {
 
     /// The slab's cells as a grid of their own (`global` is the box's).
     pub fn local_grid(&self, global: &Grid) -> Grid {
+        let mut axes = global.axes.clone();
+        let a = self.slab.axis;
+        axes[a] = global.axes[a].slice(self.slab.lo, self.slab.hi);
         Grid {
             n: self.slab.cells(),
             h: global.h,
             bc: bcs(&self.local_sides()),
+            axes,
         }
     }
 

@@ -3,11 +3,15 @@
 //! and b must have zero mean (the boundary fluxes balance); the solve then
 //! works mean-free and returns the mean-free φ.
 //!
+//! On a graded grid A is self-adjoint in the inner product Σ V x y of the
+//! cells' volumes (`laplacian.rs`), and the solve takes that one: its
+//! dot products, norms and means weigh each cell by its volume.
+//!
 //! On a rank's slab (`part.rs`) every dot product is summed over the ranks,
 //! so all take the same steps and stop together.
 
 use crate::incompressible::grid::Grid;
-use crate::incompressible::multigrid::{remove_mean, Multigrid};
+use crate::incompressible::multigrid::{mean, remove_mean, Multigrid};
 use crate::incompressible::part::{Halo, Part};
 use crate::incompressible::rows;
 
@@ -30,6 +34,8 @@ pub struct Poisson {
     /// A cell field's planes beyond the slab (`halo_of`).
     halo: Halo,
     mg: Multigrid,
+    /// This rank's cells' volumes on a graded grid.
+    volumes: Option<Vec<f64>>,
     /// Stop when ‖b − Aφ‖ ≤ tolerance·max(‖b‖, ‖b − Aφ₀‖).
     pub tolerance: f64,
     pub max_iterations: usize,
@@ -57,6 +63,7 @@ impl Poisson {
             part: part.clone(),
             halo: Halo::default(),
             mg: Multigrid::on(grid, part),
+            volumes: part.local_grid(grid).volumes(),
             tolerance,
             max_iterations: 500,
             r: vec![0.0; n],
@@ -85,20 +92,20 @@ impl Poisson {
     /// Solve A φ = b from the guess in `phi`; returns the iterations taken.
     pub fn solve(&mut self, b: &[f64], phi: &mut [f64]) -> Result<usize, SolveError> {
         let singular = !self.grid.has_dirichlet();
-        let part = &self.part;
-        let dot = |a: &[f64], b: &[f64]| part.sum(dot(a, b));
+        let (part, volumes) = (&self.part, self.volumes.as_deref());
+        let dot = |a: &[f64], b: &[f64]| part.sum(dot(a, b, volumes));
         self.mg.apply(phi, &mut self.r);
         rows::for_each(&mut self.r, |r, i| *r = b[i] - *r);
         if singular {
-            remove_mean(&mut self.r, part);
+            remove_mean(&mut self.r, part, volumes);
         }
-        // ‖b‖, of its mean-free part when A is singular: Σb² − N·mean².
-        let cells = self.grid.cells() as f64;
-        let mean = if singular {
-            part.sum(b.iter().sum::<f64>()) / cells
-        } else {
-            0.0
+        // ‖b‖, of its mean-free part when A is singular: Σb² − N·mean²
+        // (N the box's volume where the cells are weighed by theirs).
+        let cells = match volumes {
+            None => self.grid.cells() as f64,
+            Some(v) => part.sum(v.iter().sum::<f64>()),
         };
+        let mean = if singular { mean(b, part, volumes) } else { 0.0 };
         let norm_b = (dot(b, b) - cells * mean * mean).max(0.0).sqrt();
         let mut res = dot(&self.r, &self.r).sqrt();
         // Relative to the larger of b and the first residual: a guess far
@@ -135,7 +142,7 @@ impl Poisson {
             .sqrt();
             if res <= goal {
                 if singular {
-                    remove_mean(phi, part);
+                    remove_mean(phi, part, volumes);
                 }
                 return Ok(it);
             }
@@ -154,7 +161,11 @@ impl Poisson {
     }
 }
 
-/// On one thread, in the cells' order (`rows.rs` says why).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+/// Σ a b, each term weighed by its cell's volume where given: on one
+/// thread, in the cells' order (`rows.rs` says why).
+fn dot(a: &[f64], b: &[f64], volumes: Option<&[f64]>) -> f64 {
+    match volumes {
+        None => a.iter().zip(b).map(|(x, y)| x * y).sum(),
+        Some(v) => a.iter().zip(b).zip(v).map(|((x, y), v)| x * y * v).sum(),
+    }
 }

@@ -26,7 +26,7 @@ pub fn cell_value_at(grid: &Grid, values: &[f64], x: [f64; 3]) -> f64 {
     let mut weight = [[0.0; 2]; 3];
     for d in 0..3 {
         let n = grid.n[d] as i64;
-        let r = x[d] / grid.h[d] - 0.5;
+        let r = grid.axes[d].coordinate(x[d]) - 0.5;
         let i = r.floor() as i64;
         let f = r - i as f64;
         let periodic = grid.bc[d][0] == Bc::Periodic;

@@ -24,7 +24,7 @@ pub fn face_line(
 ) -> Vec<(f64, f64)> {
     let g = flow.grid();
     let n = g.n[along];
-    let h = g.h[along];
+    let axis = &g.axes[along];
     let mut m = g.n;
     m[d] += 1;
     let value = |k: usize| {
@@ -32,7 +32,7 @@ pub fn face_line(
         f[along] = k;
         flow.u.u[d][f[0] + m[0] * (f[1] + m[1] * f[2])]
     };
-    let inside: Vec<(f64, f64)> = (0..n).map(|k| ((k as f64 + 0.5) * h, value(k))).collect();
+    let inside: Vec<(f64, f64)> = (0..n).map(|k| (axis.centre(k as i64), value(k))).collect();
     let side = |s: usize| match flow.setup.sides[along][s] {
         Side::Velocity(v) => v[d],
         Side::Parabolic(v) => {
@@ -42,8 +42,17 @@ pub fn face_line(
             let across = (0..3).filter(|&t| t != along && sides[t][0] != Side::Periodic);
             let shape: f64 = across
                 .map(|t| {
+                    let a = &g.axes[t];
                     let i = through[t] as f64 + if t == d { 0.0 } else { 0.5 };
-                    parabola(i / g.n[t] as f64)
+                    let x = match t == d {
+                        true => a.face(through[t]),
+                        false => a.centre(through[t] as i64),
+                    };
+                    // On a uniform axis the index's fraction, the same bits.
+                    parabola(match a.is_uniform() {
+                        true => i / g.n[t] as f64,
+                        false => x / a.length(),
+                    })
                 })
                 .product();
             v[d] * shape
@@ -55,7 +64,7 @@ pub fn face_line(
     let ends = (side(0), side(1));
     let mut line = vec![(0.0, ends.0)];
     line.extend(inside);
-    line.push((n as f64 * h, ends.1));
+    line.push((axis.face(n), ends.1));
     line
 }
 

@@ -29,13 +29,14 @@ pub fn gradients(
     let n = g.n;
     let m = face_counts(n, d);
     let stride = [1, n[0], n[0] * n[1]][d];
-    let inv_h = 1.0 / g.h[d];
+    // 1/g per face along d (`axis.rs`: 1/h on a uniform axis).
+    let inv_gap: Vec<f64> = (0..=n[d]).map(|f| 1.0 / g.axes[d].gap(f as isize)).collect();
     rows::each_plain(out, m, |j, k, row| {
         for (i, o) in row.iter_mut().enumerate() {
             let c = [i, j, k];
             let grad = if c[d] > 0 && c[d] < n[d] {
                 let cell = i + n[0] * (j + n[1] * k);
-                (phi[cell] - phi[cell - stride]) * inv_h
+                (phi[cell] - phi[cell - stride]) * inv_gap[c[d]]
             } else {
                 gradient(g, phi, halo, d, c)
             };
@@ -69,14 +70,15 @@ pub fn project(
 }
 
 /// ∂φ/∂x_d on face `face` normal to d (face along d, cell rows elsewhere):
-/// the difference of the two cells beside it; across a periodic side the
-/// cells at both ends; on a Dirichlet side φ = 0 on the face, half a cell
-/// from the cell; on a Neumann side zero, so the given velocity stays;
-/// toward another rank, its cell in the halo plane.
+/// the difference of the two cells beside it over the face's gap; across a
+/// periodic side the cells at both ends; on a Dirichlet side φ = 0 on the
+/// face, half a cell from the cell; on a Neumann side zero, so the given
+/// velocity stays; toward another rank, its cell in the halo plane.
 pub fn gradient(g: &Grid, phi: &[f64], halo: &Halo, d: usize, face: [usize; 3]) -> f64 {
     let n = g.n[d];
-    let h = g.h[d];
     let k = face[d];
+    let (axis, ki) = (&g.axes[d], face[d] as isize);
+    let h = axis.gap(ki);
     let cell = |along: usize| {
         let mut c = face;
         c[d] = along;
@@ -87,8 +89,8 @@ pub fn gradient(g: &Grid, phi: &[f64], halo: &Halo, d: usize, face: [usize; 3]) 
     }
     match g.bc[d][(k == n) as usize] {
         Bc::Periodic => (cell(0) - cell(n - 1)) / h,
-        Bc::Dirichlet if k == 0 => 2.0 * cell(0) / h,
-        Bc::Dirichlet => -2.0 * cell(n - 1) / h,
+        Bc::Dirichlet if k == 0 => 2.0 * cell(0) / axis.width(0),
+        Bc::Dirichlet => -2.0 * cell(n - 1) / axis.width(ki - 1),
         Bc::Neumann => 0.0,
         Bc::Rank => {
             let mut row = face;

@@ -147,10 +147,15 @@ impl Model for Flow {
         let pressure = flow.part.gather(&flow.pressure());
         let (velocity, pressure) = velocity.zip(pressure)?;
         let g = flow.grid();
+        let origin = flow.box_origin(self.origin);
+        let faces = g.is_graded().then(|| {
+            [0, 1, 2].map(|d| (0..=g.n[d]).map(|i| origin[d] + g.axes[d].face(i)).collect())
+        });
         Some(Cells {
-            origin: flow.box_origin(self.origin),
+            origin,
             spacing: g.h,
             cells: g.n,
+            faces,
             fields: vec![("velocity", 3, velocity), ("pressure", 1, pressure)],
         })
     }

@@ -2,6 +2,7 @@
 //! its initial state.
 
 use crate::comm::{Comm, Single};
+use crate::incompressible::axis::Axis;
 use crate::incompressible::grid::Grid;
 use crate::incompressible::part::Part;
 use crate::incompressible::side::{bcs, Side};
@@ -34,10 +35,16 @@ pub fn flow_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Incompress
             };
         }
     }
-    let grid = Grid {
-        n: b.cells.map(|n| n as usize),
-        h: b.spacing(),
-        bc: bcs(&sides),
+    let bc = bcs(&sides);
+    let grid = match b.core {
+        None => Grid::uniform(b.cells.map(|n| n as usize), b.spacing(), bc),
+        Some(_) => {
+            let axis = |d: usize| {
+                let periodic = sides[d][0] == Side::Periodic;
+                Some(Axis::of_widths(&b.widths(d)?, periodic))
+            };
+            Grid::of_axes([axis(0)?, axis(1)?, axis(2)?], bc)
+        }
     };
     let part = Part::on(comm, grid.n, sides);
     let setup = FlowSetup {

@@ -11,32 +11,77 @@
 //! preconditioner is used; a very viscous flow on fine cells takes more
 //! iterations.
 //!
+//! On a graded grid (`metric.rs`) L is the finite-volume Laplacian, whose
+//! rows scaled by the faces' control volumes are symmetric: the solve's dot
+//! products then weigh each face by its control volume, the inner product
+//! in which I − αL is self-adjoint.
+//!
 //! On a rank's slab (`part.rs`) the dot products are summed over the ranks
 //! (each face counted by the one rank that updates it).
 
+use crate::incompressible::metric::{AlongAxis, Metric};
 use crate::incompressible::padded::Padded;
 use crate::incompressible::rows;
 use crate::incompressible::side::Sides;
 use crate::layout::Layout;
 
-/// out = L u = Σ_a (u₊ − 2u + u₋)/h_a² on the unknown faces (ghosts filled).
-pub fn laplacian(u: &Padded, h: [f64; 3], out: &mut [f64]) {
+/// out = L u = Σ_a (u₊ − 2u + u₋)/h_a² on the unknown faces (ghosts
+/// filled), its finite-volume form along a graded axis.
+pub fn laplacian(u: &Padded, metric: &Metric, out: &mut [f64]) {
     let lay = u.lay;
-    let w = h.map(|h| 1.0 / (h * h));
-    let axes: Vec<(usize, f64)> = (0..3)
-        .filter(|&a| lay.g[a] > 0)
-        .map(|a| (lay.stride[a], w[a]))
-        .collect();
+    let axes = Axes::of(metric, &lay, 1.0);
     let d = &u.data;
     rows::each(&lay, lay.unknown_box(), [out], |row, [o]| {
+        let at = axes.row_indices(&lay, row.first);
         for i in 0..row.len {
-            let p = row.at + i;
-            o[row.offset + i] = axes
-                .iter()
-                .map(|&(s, w)| w * (d[p + s] - 2.0 * d[p] + d[p - s]))
-                .sum();
+            o[row.offset + i] = axes.sum(d, row.at + i, at, i);
         }
     });
+}
+
+/// The axes a component's Laplacian runs along (those with ghosts), each
+/// with its stride, lengths and the factor the terms are scaled by.
+struct Axes<'a> {
+    axes: Vec<(usize, usize, &'a AlongAxis, f64, f64)>,
+}
+
+impl<'a> Axes<'a> {
+    fn of(metric: &'a Metric, lay: &Layout, scale: f64) -> Axes<'a> {
+        let axes = (0..3)
+            .filter(|&a| lay.g[a] > 0)
+            .map(|a| {
+                let m = &metric.axes[a];
+                (a, lay.stride[a], m, scale * m.uniform, scale)
+            })
+            .collect();
+        Axes { axes }
+    }
+
+    /// The padded index along each axis of a row's first entry.
+    #[inline(always)]
+    fn row_indices(&self, lay: &Layout, first: [isize; 3]) -> [usize; 3] {
+        [0, 1, 2].map(|a| (first[a] + lay.g[a] as isize) as usize)
+    }
+
+    /// Σ_a scale·L_a at entry p, the i-th of a row starting at `at`.
+    #[inline(always)]
+    fn sum(&self, d: &[f64], p: usize, at: [usize; 3], i: usize) -> f64 {
+        (0..self.axes.len()).map(|t| self.term(t, d, p, at, i)).sum()
+    }
+
+    /// The term of the t-th axis: the uniform stencil's own operations
+    /// where the axis is uniform.
+    #[inline(always)]
+    fn term(&self, t: usize, d: &[f64], p: usize, at: [usize; 3], i: usize) -> f64 {
+        let (a, s, m, scaled, scale) = self.axes[t];
+        match &m.weights {
+            None => scaled * (d[p + s] - 2.0 * d[p] + d[p - s]),
+            Some([lo, hi]) => {
+                let k = at[a] + if a == 0 { i } else { 0 };
+                scale * (hi[k] * (d[p + s] - d[p]) + lo[k] * (d[p - s] - d[p]))
+            }
+        }
+    }
 }
 
 /// Why the viscous solve stopped.
@@ -74,7 +119,7 @@ impl Helmholtz {
     pub fn solve(
         &mut self,
         sides: &Sides,
-        h: [f64; 3],
+        metric: &Metric,
         alpha: f64,
         b: &[f64],
         delta: &mut Padded,
@@ -84,10 +129,11 @@ impl Helmholtz {
         let lay = delta.lay;
         let range = lay.unknown_box();
         let part = delta.part().clone();
-        let dot = |x: &[f64], y: &[f64]| part.sum(dot(&lay, range, x, y));
+        let weights = metric.graded.then_some(metric);
+        let dot = |x: &[f64], y: &[f64]| part.sum(dot(&lay, range, x, y, weights));
         let norm_b = dot(b, b).sqrt();
         delta.fill_ghosts(&homogeneous);
-        self.first_residual(h, alpha, b, delta);
+        self.first_residual(metric, alpha, b, delta);
         let mut rr = dot(&self.r, &self.r);
         let goal = tolerance * norm_b;
         if norm_b == 0.0 {
@@ -98,11 +144,7 @@ impl Helmholtz {
         if rr.sqrt() <= goal {
             return Ok(0);
         }
-        let w = h.map(|h| 1.0 / (h * h));
-        let axes: Vec<(usize, f64)> = (0..3)
-            .filter(|&a| lay.g[a] > 0)
-            .map(|a| (lay.stride[a], alpha * w[a]))
-            .collect();
+        let axes = Axes::of(metric, &lay, alpha);
         for it in 1..=MAX_ITERATIONS {
             self.p.fill_ghosts(&homogeneous);
             self.apply(&axes, lay, range);
@@ -130,9 +172,9 @@ impl Helmholtz {
     }
 
     /// r = b − (I − αL)δ (δ's ghosts filled), and the first direction p = r.
-    fn first_residual(&mut self, h: [f64; 3], alpha: f64, b: &[f64], delta: &Padded) {
+    fn first_residual(&mut self, metric: &Metric, alpha: f64, b: &[f64], delta: &Padded) {
         let lay = delta.lay;
-        laplacian(delta, h, &mut self.q);
+        laplacian(delta, metric, &mut self.q);
         let (q, d) = (&self.q, &delta.data);
         rows::each(
             &lay,
@@ -177,16 +219,17 @@ impl Helmholtz {
         });
     }
 
-    /// q = (I − αL)p on this rank's unknowns (`axes`: each axis's stride and
-    /// α/h²).
-    fn apply(&mut self, axes: &[(usize, f64)], lay: Layout, range: [[isize; 2]; 3]) {
+    /// q = (I − αL)p on this rank's unknowns (`axes`: the Laplacian's axes
+    /// scaled by α).
+    fn apply(&mut self, axes: &Axes, lay: Layout, range: [[isize; 2]; 3]) {
         let p = &self.p.data;
         rows::each(&lay, range, [&mut self.q], |row, [q]| {
+            let first = axes.row_indices(&lay, row.first);
             for i in 0..row.len {
                 let at = row.at + i;
                 let mut v = p[at];
-                for &(s, aw) in axes {
-                    v -= aw * (p[at + s] - 2.0 * p[at] + p[at - s]);
+                for t in 0..axes.axes.len() {
+                    v -= axes.term(t, p, at, first, i);
                 }
                 q[row.offset + i] = v;
             }
@@ -194,10 +237,14 @@ impl Helmholtz {
     }
 }
 
-/// This rank's x·y over the box `range`, on one thread in the grid's order
-/// (`rows.rs` says why).
-fn dot(lay: &Layout, range: [[isize; 2]; 3], x: &[f64], y: &[f64]) -> f64 {
+/// This rank's x·y over the box `range`, each entry weighed by its control
+/// volume where `metric` is given (a graded grid): on one thread in the
+/// grid's order (`rows.rs` says why).
+fn dot(lay: &Layout, range: [[isize; 2]; 3], x: &[f64], y: &[f64], metric: Option<&Metric>) -> f64 {
     let mut s = 0.0;
-    lay.for_box(range, |_, p| s += x[p] * y[p]);
+    match metric {
+        None => lay.for_box(range, |_, p| s += x[p] * y[p]),
+        Some(m) => lay.for_box(range, |f, p| s += x[p] * y[p] * m.volume(lay, f)),
+    }
     s
 }

@@ -389,4 +389,36 @@ pub const CASES: &[Case] = &[
         says: "leaves fewer than 3 cells per rank along x (400 cells)",
         line_of: Some("ranks = 200"),
     },
+    // Issue 45: the fine core of a graded box.
+    Case {
+        name: "flow-core-outside-the-box",
+        edit: |_| shipped_with("c9-graded", "upper = [5.5, 5.5, 4.0]", "upper = [5.5, 5.5, 30.0]"),
+        key: Some("fluid.box.core.lower"),
+        says: "must lie inside the box",
+        line_of: Some("lower = [-5.5, -5.5, -2.5]"),
+    },
+    Case {
+        name: "flow-core-growing-too-fast",
+        edit: |_| shipped_with("c9-graded", "growth = 1.1 ", "growth = 1.5 "),
+        key: Some("fluid.box.core.growth"),
+        says: "at most 1.2 times as wide",
+        line_of: Some("growth = 1.5"),
+    },
+    Case {
+        name: "flow-core-and-cells",
+        edit: |_| {
+            let cells = "upper = [8.0, 8.0, 24.0]         # m: the dissertation's 16 × 16 × 36 m";
+            shipped_with("c9-graded", cells, &format!("{cells}\ncells = [32, 32, 72]"))
+        },
+        key: Some("fluid.box.cells"),
+        says: "cells follow from [fluid.box.core]",
+        line_of: Some("cells = [32, 32, 72]"),
+    },
+    Case {
+        name: "flow-box-without-cells",
+        edit: |_| cavity_with("cells = [", "# cells = ["),
+        key: Some("fluid.box.lower"),
+        says: "the box needs its cells",
+        line_of: Some("lower = "),
+    },
 ];
