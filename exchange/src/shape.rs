@@ -72,6 +72,18 @@ impl Shape {
         (self.placement * s.center).coords.norm() + s.radius
     }
 
+    /// The radius of the circles a sphere or cylinder is drawn with (its
+    /// own radius; the bounding sphere's for another shape) [m].
+    pub fn drawn_radius(&self) -> f64 {
+        if let Some(ball) = self.shape.as_ball() {
+            return ball.radius;
+        }
+        match self.shape.as_cylinder() {
+            Some(c) => c.radius,
+            None => self.bounding_radius(),
+        }
+    }
+
     /// A closed triangulation of the surface in the own frame, for output.
     pub fn surface(&self) -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
         self.surface_with(DRAW_SEGMENTS)

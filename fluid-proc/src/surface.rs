@@ -40,7 +40,19 @@ impl Surface {
     /// longer than half of `spacing` [m] (the polygon's perimeter is then
     /// within (π/n)²/6 of the circle's).
     pub fn of(shape: &Shape, spacing: f64) -> Surface {
-        let around = 2.0 * PI * shape.bounding_radius() / (0.5 * spacing);
+        Surface::drawn(shape, spacing, shape.bounding_radius())
+    }
+
+    /// [`Surface::of`] with the segments no longer than half of `spacing`
+    /// along the circles' own radius: the surface a 3-D flow's markers are
+    /// cut from. A long cylinder's bounding sphere would cut its sides
+    /// into slivers: ten times the markers at 1.8 × 0.4 m on 4 cm cells.
+    pub fn for_markers(shape: &Shape, spacing: f64) -> Surface {
+        Surface::drawn(shape, spacing, shape.drawn_radius())
+    }
+
+    fn drawn(shape: &Shape, spacing: f64, radius: f64) -> Surface {
+        let around = 2.0 * PI * radius / (0.5 * spacing);
         let segments = (around.ceil() as u32).clamp(24, MAX_SEGMENTS);
         let (points, triangles) = shape.surface_with(segments);
         Surface { points, triangles }

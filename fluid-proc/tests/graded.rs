@@ -80,12 +80,12 @@ fn the_pressure_solve_on_a_graded_grid_is_second_order_in_flat_iterations() {
         assert!(core >= 3.4, "core error ratio {core} in {runs:?}");
         assert!(all >= 3.4, "box error ratio {all} in {runs:?}");
     }
-    // Measured: 13, 15, 18 iterations on 28³, 56³, 112³ cells, where the
-    // uniform grids of as many take 9, 10, 10: the V-cycle's piecewise
-    // constant transfers lose some of their strength on the graded cells.
-    // Bounded here at 1.5 times the coarsest grid's.
+    // Measured: 12, 13, 14 iterations on 28³, 56³, 112³ cells, where the
+    // uniform grids of as many take 9, 10, 10: the multigrid merges a
+    // graded axis's cells where they are fine (`Axis::coarse_plan`); with
+    // every axis halved at every level it took 13, 15, 18.
     let (first, last) = (runs[0].2, runs[2].2);
-    assert!(2 * last <= 3 * first, "iterations {runs:?}");
+    assert!(last <= first + 2, "iterations {runs:?}");
 }
 
 /// A graded box of `n` core cells per axis over the unit cube, and a random

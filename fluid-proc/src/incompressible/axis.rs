@@ -23,6 +23,11 @@
 /// face one further.
 pub const PAD: usize = crate::layout::GHOSTS + 1;
 
+/// A graded axis's multigrid level merges two neighbours whose widths sum
+/// to at most this many of its finest (`Axis::coarse_plan`): two of the
+/// finest, or two that grew by up to a quarter.
+const MERGED: f64 = 2.5;
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Axis {
     /// Widths of cells −PAD .. n + PAD [m].
@@ -208,17 +213,42 @@ impl Axis {
         Axis::of_widths(&w, periodic)
     }
 
-    /// Pairs of cells merged (a multigrid level), `periodic` as this axis.
-    pub fn coarsened(&self, periodic: bool) -> Axis {
-        match self.uniform {
-            Some(h) => Axis::uniform(self.n() / 2, 2.0 * h),
-            None => {
-                let w: Vec<f64> = (0..self.n() / 2)
-                    .map(|i| self.width(2 * i as isize) + self.width(2 * i as isize + 1))
-                    .collect();
-                Axis::of_widths(&w, periodic)
-            }
+    /// Each cell's parent on the next coarser multigrid level, or None when
+    /// the axis does not coarsen. A uniform axis halves (an even count of
+    /// at least `least` cells). A graded one merges a pair of neighbours
+    /// only where the two together are at most `MERGED` times the level's
+    /// spacing `h` (the core's cells merged so far): the fine cells merge,
+    /// the wide ones wait until the level's cells have grown to them. So
+    /// each level is semi-coarsened where its cells are long along the
+    /// axis, and the coarse correction reaches the errors the point
+    /// smoother leaves along the long cells.
+    pub fn coarse_plan(&self, h: f64, least: usize) -> Option<Vec<usize>> {
+        let n = self.n();
+        if self.uniform.is_some() {
+            return (n.is_multiple_of(2) && n >= least).then(|| (0..n).map(|i| i / 2).collect());
         }
+        let reach = MERGED * h;
+        let mut plan = Vec::with_capacity(n);
+        let mut i = 0;
+        while i < n {
+            let parent = plan.last().map_or(0, |&p| p + 1);
+            let pair = i + 1 < n && self.width(i as isize) + self.width(i as isize + 1) <= reach;
+            plan.extend(std::iter::repeat_n(parent, 1 + pair as usize));
+            i += 1 + pair as usize;
+        }
+        (plan[n - 1] + 1 < n).then_some(plan)
+    }
+
+    /// The cells merged by `plan` (`coarse_plan`), `periodic` as this axis.
+    pub fn coarsened(&self, plan: &[usize], periodic: bool) -> Axis {
+        if let Some(h) = self.uniform {
+            return Axis::uniform(self.n() / 2, 2.0 * h);
+        }
+        let mut w = vec![0.0; plan[plan.len() - 1] + 1];
+        for (i, &p) in plan.iter().enumerate() {
+            w[p] += self.width(i as isize);
+        }
+        Axis::of_widths(&w, periodic)
     }
 }
 
@@ -258,7 +288,10 @@ mod tests {
         // Coordinates: faces at whole numbers, linear within a cell.
         assert_eq!((m.coordinate(0.0), m.coordinate(2.0), m.coordinate(4.5)), (0.0, 1.5, 2.5));
         assert_eq!((m.centre(1), m.centre(3), m.coordinate(m.centre(2))), (2.0, 8.0, 2.5));
-        assert_eq!(m.coarsened(false).width(0), 3.0);
+        // At a level's spacing of 1.5, two together of at most 3.75: 1 + 2.
+        let plan = m.coarse_plan(1.5, 4).unwrap();
+        assert_eq!(plan, [0, 0, 1, 2]);
+        assert_eq!(m.coarsened(&plan, false).width(0), 3.0);
         let r = Axis::graded(10.0, [4.0, 6.0], 0.5, 1.2, false).unwrap();
         let f = r.refined(false);
         assert_eq!(f.n(), 2 * r.n());

@@ -9,7 +9,7 @@ use crate::incompressible::Incompressible;
 use crate::surface::Surface;
 use exchange::body::read_states;
 use exchange::fields::LOAD_LEN;
-use exchange::Body;
+use exchange::{Body, Shape};
 use fluid_section::Scene;
 use participant::Monitor;
 
@@ -43,9 +43,15 @@ impl FlowBodies {
             );
         }
         let spacing = g.spacing_range().0;
+        // A 2-D flow takes the section of the finer polygon.
+        let three_d = g.n.iter().all(|&n| n > 1);
+        let surface = |s: &Shape| match three_d {
+            true => Surface::for_markers(s, spacing),
+            false => Surface::of(s, spacing),
+        };
         let surfaces = bodies
             .iter()
-            .map(|b| b.shape.as_ref().map(|s| Surface::of(s, spacing)))
+            .map(|b| b.shape.as_ref().map(surface))
             .collect();
         flow.bodies = vec![ImmersedBody::default(); bodies.len()];
         let mut all = FlowBodies {

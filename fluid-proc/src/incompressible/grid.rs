@@ -131,22 +131,33 @@ impl Grid {
         (0..3).find(|&d| (self.bc[d][0] == Bc::Periodic) != (self.bc[d][1] == Bc::Periodic))
     }
 
-    /// The grid with twice the spacing along every axis that can halve (an
-    /// even count of at least 4 cells; periodic axes also from 2), or None
-    /// when none can.
-    pub fn coarsened(&self) -> Option<Grid> {
+    /// Each cell's parent along each axis on the next coarser grid
+    /// (`Axis::coarse_plan`: a uniform axis halves from an even count of at
+    /// least 4 cells, periodic axes also from 2; the cell itself where the
+    /// axis does not coarsen), or None when no axis does.
+    pub fn coarse_plans(&self) -> Option<[Vec<usize>; 3]> {
+        let plans = [0, 1, 2].map(|d| {
+            let least = if self.bc[d][0] == Bc::Periodic { 2 } else { 4 };
+            self.axes[d].coarse_plan(self.h[d], least)
+        });
+        plans.iter().any(Option::is_some).then(|| {
+            let n = self.n;
+            let mut plans = plans.into_iter();
+            [0, 1, 2].map(|d| plans.next().flatten().unwrap_or_else(|| (0..n[d]).collect()))
+        })
+    }
+
+    /// The next coarser grid, merged by `plans` (`coarse_plans`).
+    pub fn coarsened(&self, plans: &[Vec<usize>; 3]) -> Grid {
         let mut g = self.clone();
-        let mut any = false;
         for d in 0..3 {
-            let n = self.n[d];
-            let min = if self.bc[d][0] == Bc::Periodic { 2 } else { 4 };
-            if n.is_multiple_of(2) && n >= min {
-                g.n[d] = n / 2;
+            let n = plans[d].last().map_or(1, |&p| p + 1);
+            if n < self.n[d] {
+                g.n[d] = n;
                 g.h[d] = 2.0 * self.h[d];
-                g.axes[d] = self.axes[d].coarsened(self.bc[d][0] == Bc::Periodic);
-                any = true;
+                g.axes[d] = self.axes[d].coarsened(&plans[d], self.bc[d][0] == Bc::Periodic);
             }
         }
-        any.then_some(g)
+        g
     }
 }

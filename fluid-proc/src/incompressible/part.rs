@@ -27,6 +27,8 @@ pub struct Part {
     pub slab: Slab,
     /// The whole box's sides.
     pub sides: Sides,
+    /// Every rank's first cell along the slab's axis, and the box's count.
+    bounds: Arc<[usize]>,
 }
 
 impl Part {
@@ -39,8 +41,16 @@ impl Part {
     /// least `layout::GHOSTS` cells (the scenario check makes sure), so
     /// that each rank's ghosts come from its two neighbours.
     pub fn on(comm: Arc<dyn Comm>, n: [usize; 3], sides: Sides) -> Part {
-        let slab = Slab::along(n, Part::axis(n), comm.ranks(), comm.rank());
-        Part { comm, slab, sides }
+        let (axis, ranks) = (Part::axis(n), comm.ranks());
+        let slab = Slab::along(n, axis, ranks, comm.rank());
+        let mut bounds: Vec<usize> = (0..ranks).map(|r| Slab::along(n, axis, ranks, r).lo).collect();
+        bounds.push(n[axis]);
+        Part {
+            comm,
+            slab,
+            sides,
+            bounds: bounds.into(),
+        }
     }
 
     /// The whole box on one rank.
@@ -93,25 +103,28 @@ impl Part {
     }
 
     /// The same ranks' parts of a coarser box of `n` cells (a multigrid
-    /// level): the slab halved where the axis halved. None when a slab's
-    /// bounds do not halve (the coarse cells would straddle two ranks).
-    pub fn coarsened(&self, n: [usize; 3]) -> Option<Part> {
-        let a = self.slab.axis;
-        let mut slab = Slab { n, ..self.slab };
-        if n[a] != self.slab.n[a] {
-            let ranks = self.comm.ranks();
-            let all_even = (0..ranks).all(|r| {
-                let s = Slab::along(self.slab.n, a, ranks, r);
-                s.lo % 2 == 0 && s.hi % 2 == 0
-            });
-            if !all_even {
+    /// level), each cell along the slab's axis going to its parent in
+    /// `plan` (`Grid::coarse_plans`). None when a slab's bounds fall inside
+    /// a merged pair (the coarse cells would straddle two ranks).
+    pub fn coarsened(&self, n: [usize; 3], plan: &[usize]) -> Option<Part> {
+        let mut bounds = Vec::with_capacity(self.bounds.len());
+        for &b in self.bounds.iter() {
+            let at_coarse_face = b == 0 || b == plan.len() || plan[b - 1] != plan[b];
+            if !at_coarse_face {
                 return None;
             }
-            slab.lo /= 2;
-            slab.hi /= 2;
+            bounds.push(if b == plan.len() { plan[b - 1] + 1 } else { plan[b] });
         }
+        let rank = self.comm.rank();
+        let slab = Slab {
+            n,
+            lo: bounds[rank],
+            hi: bounds[rank + 1],
+            ..self.slab
+        };
         Some(Part {
             slab,
+            bounds: bounds.into(),
             ..self.clone()
         })
     }
