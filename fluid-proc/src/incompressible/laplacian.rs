@@ -125,7 +125,9 @@ impl Stencil {
         };
         Stencil {
             grid: g.clone(),
-            w: 1.0 / (g.h[0] * g.h[0]),
+            // The one width of a uniform x (a coarse level's nominal spacing
+            // need not be it where a graded axis merged to equal widths).
+            w: 1.0 / (g.axes[0].width(0) * g.axes[0].width(0)),
             x_weights,
             diag,
             lines,

@@ -63,7 +63,7 @@ impl Metric {
                 inv_len: len.iter().map(|l| 1.0 / l).collect(),
                 len,
                 weights,
-                uniform: 1.0 / (grid.h[a] * grid.h[a]),
+                uniform: 1.0 / (axis.width(0) * axis.width(0)),
             }
         });
         Metric {
