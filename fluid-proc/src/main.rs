@@ -6,11 +6,25 @@ fn main() {
     // `fluid-proc --check SCENARIO`: the [fluid] table, checked.
     // Every model saves and restores window checkpoints (implicit
     // coupling) and writes run checkpoints (restart).
-    scenario::answer_check(|path, text| {
-        Scene::load(path, text).map(|_| scenario::Answer::with_restarts())
-    });
+    scenario::answer_check(|path, text| Scene::load(path, text).map(|s| answer(&s)));
     if let Err(e) = fluid_proc::driver::run() {
         eprintln!("fluid-proc: {e}");
         std::process::exit(1);
     }
+}
+
+/// The `--check` answer: restarts, and a graded box's cells, which follow
+/// from its core and are written nowhere else.
+fn answer(scene: &Scene) -> scenario::Answer {
+    let mut answer = scenario::Answer::with_restarts();
+    if let Some((b, core)) = scene.fluid.flow_box.and_then(|b| Some((b, b.core?))) {
+        let [nx, ny, nz] = b.cells;
+        answer.notes.push(format!(
+            "cells {nx} × {ny} × {nz}, graded from a core of {} m cells growing by at most {}",
+            core.spacing, core.growth
+        ));
+        let cells: Vec<i64> = b.cells.iter().map(|&n| i64::from(n)).collect();
+        answer.manifest.insert("cells".into(), cells.into());
+    }
+    answer
 }
