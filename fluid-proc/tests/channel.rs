@@ -106,12 +106,26 @@ fn a_channel_graded_across_develops_plane_poiseuille_flow_at_second_order() {
     // over the channel, and dp/dx too: measured u 1.06e-2, 3.12e-3,
     // 8.38e-4 of U (3.41, 3.72), in the middle 2.07e-3 and 5.34e-4 on the
     // two finer grids (3.88), dp/dx 1.10 %, 0.28 %, 0.070 % (3.96, 3.99).
-    let base = Axis::graded(HEIGHT, [0.25 * HEIGHT, 0.75 * HEIGHT], HEIGHT / 16.0, 1.2, false).unwrap();
-    let axes = [base.clone(), base.refined(false), base.refined(false).refined(false)];
+    let base = Axis::graded(
+        HEIGHT,
+        [0.25 * HEIGHT, 0.75 * HEIGHT],
+        HEIGHT / 16.0,
+        1.2,
+        false,
+    )
+    .unwrap();
+    let axes = [
+        base.clone(),
+        base.refined(false),
+        base.refined(false).refined(false),
+    ];
     let runs: Vec<(f64, f64, f64)> = axes.into_iter().map(channel_across).collect();
     eprintln!("graded channel (u error, in the middle, dp/dx error): {runs:?}");
     for w in runs.windows(2) {
         let ratios = [w[0].0 / w[1].0, w[0].1 / w[1].1, w[0].2 / w[1].2];
-        assert!(ratios.iter().all(|&r| r >= 3.4), "error ratios {ratios:?} in {runs:?}");
+        assert!(
+            ratios.iter().all(|&r| r >= 3.4),
+            "error ratios {ratios:?} in {runs:?}"
+        );
     }
 }

@@ -50,7 +50,9 @@ fn poisson_errors(times: usize) -> (f64, f64, usize) {
         [0, 1, 2].map(|d| centre(&g.axes[d], c[d]))
     };
     let exact = |x: [f64; 3]| (0..3).map(|d| (PI * x[d]).cos()).product::<f64>();
-    let b: Vec<f64> = (0..g.cells()).map(|i| 3.0 * PI * PI * exact(x(i))).collect();
+    let b: Vec<f64> = (0..g.cells())
+        .map(|i| 3.0 * PI * PI * exact(x(i)))
+        .collect();
     let mut phi = vec![0.0; g.cells()];
     let mut p = Poisson::new(&g, 1e-12);
     let iterations = p.solve(&b, &mut phi).unwrap();
@@ -104,7 +106,11 @@ fn a_projected_field_on_a_graded_grid_is_divergence_free() {
         let stride = [1, m[0], m[0] * m[1]][d];
         for (f, v) in u.u[d].iter_mut().enumerate() {
             let k = (f / stride) % m[d];
-            *v = if k == 0 || k == n { 0.0 } else { noise(&mut seed) };
+            *v = if k == 0 || k == n {
+                0.0
+            } else {
+                noise(&mut seed)
+            };
         }
     }
     let mut poisson = Poisson::new(&g, 1e-13);
@@ -196,5 +202,3 @@ fn the_taylor_green_vortex_on_a_graded_grid_converges_at_second_order() {
         assert!(all >= 3.0, "box error ratio {all} in {runs:?}");
     }
 }
-
-

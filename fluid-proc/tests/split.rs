@@ -16,8 +16,8 @@
 
 use exchange::Shape;
 use fluid_proc::comm::Comm;
-use fluid_proc::incompressible::canopy::sheet_markers;
 use fluid_proc::incompressible::axis::Axis;
+use fluid_proc::incompressible::canopy::sheet_markers;
 use fluid_proc::incompressible::grid::Grid;
 use fluid_proc::incompressible::immersed::{place_markers, ImmersedBody};
 use fluid_proc::incompressible::part::Part;
@@ -173,7 +173,13 @@ impl Cells for Graded {
 }
 
 /// [`taylor_green`] on the cells `cells` gives.
-fn taylor_green_on(cells: Box<dyn Cells>, z: Side, ranks: usize, steps: usize, bodies: bool) -> Gathered {
+fn taylor_green_on(
+    cells: Box<dyn Cells>,
+    z: Side,
+    ranks: usize,
+    steps: usize,
+    bodies: bool,
+) -> Gathered {
     let cells: Arc<dyn Cells> = cells.into();
     let mail = Arc::new(Mailbox::default());
     let threads: Vec<_> = (0..ranks)
@@ -213,11 +219,21 @@ fn place_bodies(flow: &mut Incompressible) {
     flow.canopy = Some(sheet);
 }
 
-fn run(cells: &dyn Cells, z: Side, comm: Arc<Threads>, steps: usize, bodies: bool) -> Option<Gathered> {
+fn run(
+    cells: &dyn Cells,
+    z: Side,
+    comm: Arc<Threads>,
+    steps: usize,
+    bodies: bool,
+) -> Option<Gathered> {
     let sides = [[Side::Periodic; 2], [Side::Periodic; 2], [z; 2]];
     let axes = [0, 1, 2].map(|d| cells.axis(d, sides[d][0] == Side::Periodic));
     let grid = match axes.iter().all(|a| a.is_uniform()) {
-        true => Grid::uniform(axes.clone().map(|a| a.n()), axes.clone().map(|a| a.width(0)), bcs(&sides)),
+        true => Grid::uniform(
+            axes.clone().map(|a| a.n()),
+            axes.clone().map(|a| a.width(0)),
+            bcs(&sides),
+        ),
         false => Grid::of_axes(axes, bcs(&sides)),
     };
     let (n, h) = (grid.n, grid.h);

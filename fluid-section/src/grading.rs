@@ -77,7 +77,9 @@ impl Core {
                 );
             }
             let outside = (0..3).find(|&d| {
-                !(lower[d] <= self.lower[d] && self.lower[d] < self.upper[d] && self.upper[d] <= upper[d])
+                !(lower[d] <= self.lower[d]
+                    && self.lower[d] < self.upper[d]
+                    && self.upper[d] <= upper[d])
             });
             if let Some(d) = outside {
                 c.problem(

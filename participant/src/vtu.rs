@@ -144,7 +144,10 @@ pub fn write_vtr(path: &Path, image: &Image) -> io::Result<()> {
         s,
         "<RectilinearGrid WholeExtent=\"{extent}\">\n<Piece Extent=\"{extent}\">\n<Coordinates>"
     );
-    for (axis, faces) in ["x", "y", "z"].iter().zip(image.faces.into_iter().flatten()) {
+    for (axis, faces) in ["x", "y", "z"]
+        .iter()
+        .zip(image.faces.into_iter().flatten())
+    {
         let _ = writeln!(
             s,
             "<DataArray type=\"Float64\" Name=\"{axis}\" format=\"ascii\">{}</DataArray>",

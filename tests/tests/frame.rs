@@ -71,11 +71,13 @@ fn fixed_sphere() -> String {
 /// top (24 × 24 × 28 cells for the uniform box's 24 × 24 × 48). Across,
 /// the core spans the periodic 4 m: the same blockage as the fixed box.
 fn graded_sphere() -> String {
-    FOLLOWED_SPHERE.replace("sphere-followed", "sphere-graded").replace(
-        "cells = [24, 24, 48]",
-        "[fluid.box.core]\nlower = [-2.0, -2.0, -1.0]\nupper = [2.0, 2.0, 1.0]\n\
+    FOLLOWED_SPHERE
+        .replace("sphere-followed", "sphere-graded")
+        .replace(
+            "cells = [24, 24, 48]",
+            "[fluid.box.core]\nlower = [-2.0, -2.0, -1.0]\nupper = [2.0, 2.0, 1.0]\n\
          spacing = 0.16666666666666666\ngrowth = 1.2",
-    )
+        )
 }
 
 /// The terminal speed a speed approaching it exponentially tends to,

@@ -185,7 +185,10 @@ impl Axis {
     pub fn slice(&self, lo: usize, hi: usize) -> Axis {
         let faces = match self.uniform {
             Some(_) => Vec::new(),
-            None => self.faces[lo..=hi].iter().map(|f| f - self.faces[lo]).collect(),
+            None => self.faces[lo..=hi]
+                .iter()
+                .map(|f| f - self.faces[lo])
+                .collect(),
         };
         Axis {
             widths: self.widths[lo..hi + 2 * PAD].to_vec(),
@@ -263,7 +266,10 @@ mod tests {
         let a = Axis::graded(20.0, [7.5, 12.5], 0.25, 1.1, false).unwrap();
         let n = a.n();
         let [lo, hi] = a.core();
-        assert!((lo - 7.5).abs() < 1e-9 && (hi - 12.5).abs() < 1e-9, "core {lo}..{hi}");
+        assert!(
+            (lo - 7.5).abs() < 1e-9 && (hi - 12.5).abs() < 1e-9,
+            "core {lo}..{hi}"
+        );
         assert!((a.length() - 20.0).abs() < 1e-9);
         for i in 0..n {
             let c = a.coordinate(a.centre(i as i64));
@@ -277,7 +283,10 @@ mod tests {
     fn ghost_widths_mirror_wrap_and_slice() {
         let w = [1.0, 2.0, 3.0, 4.0];
         let m = Axis::of_widths(&w, false);
-        assert_eq!((m.width(-1), m.width(-2), m.width(4), m.width(5)), (1.0, 2.0, 4.0, 3.0));
+        assert_eq!(
+            (m.width(-1), m.width(-2), m.width(4), m.width(5)),
+            (1.0, 2.0, 4.0, 3.0)
+        );
         assert_eq!(m.gap(0), 1.0);
         let p = Axis::of_widths(&w, true);
         assert_eq!((p.width(-1), p.width(4)), (4.0, 1.0));
@@ -286,8 +295,14 @@ mod tests {
         assert_eq!((s.n(), s.width(-1), s.width(2)), (2, 1.0, 4.0));
         assert_eq!((s.face(0), s.face(2)), (1.0, 6.0));
         // Coordinates: faces at whole numbers, linear within a cell.
-        assert_eq!((m.coordinate(0.0), m.coordinate(2.0), m.coordinate(4.5)), (0.0, 1.5, 2.5));
-        assert_eq!((m.centre(1), m.centre(3), m.coordinate(m.centre(2))), (2.0, 8.0, 2.5));
+        assert_eq!(
+            (m.coordinate(0.0), m.coordinate(2.0), m.coordinate(4.5)),
+            (0.0, 1.5, 2.5)
+        );
+        assert_eq!(
+            (m.centre(1), m.centre(3), m.coordinate(m.centre(2))),
+            (2.0, 8.0, 2.5)
+        );
         // At a level's spacing of 1.5, two together of at most 3.75: 1 + 2.
         let plan = m.coarse_plan(1.5, 4).unwrap();
         assert_eq!(plan, [0, 0, 1, 2]);

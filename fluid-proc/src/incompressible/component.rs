@@ -93,8 +93,14 @@ impl ChangeInputs<'_> {
             }
         });
         let alpha = 0.5 * nu * dt;
-        w.helmholtz
-            .solve(self.sides, &w.metric, alpha, &w.b, &mut w.delta, VISCOUS_TOLERANCE)
+        w.helmholtz.solve(
+            self.sides,
+            &w.metric,
+            alpha,
+            &w.b,
+            &mut w.delta,
+            VISCOUS_TOLERANCE,
+        )
     }
 }
 

@@ -78,8 +78,11 @@ pub fn for_each_cell_faces(n: [usize; 3], mut f: impl FnMut(usize, [usize; 3], [
 /// (h_d on a uniform axis) [1/s].
 pub fn divergence(g: &Grid, u: &Faces, div: &mut [f64]) {
     let n = g.n;
-    let inv_w: [Vec<f64>; 3] =
-        [0, 1, 2].map(|d| (0..n[d]).map(|i| 1.0 / g.axes[d].width(i as isize)).collect());
+    let inv_w: [Vec<f64>; 3] = [0, 1, 2].map(|d| {
+        (0..n[d])
+            .map(|i| 1.0 / g.axes[d].width(i as isize))
+            .collect()
+    });
     // Faces normal to d: their counts, and the step from the face below a
     // cell to the one above it.
     let m = [0, 1, 2].map(|d| face_counts(n, d));

@@ -75,8 +75,11 @@ impl Grid {
     /// Each cell's volume, in the cells' order, on a graded box (None on a
     /// uniform one, where every cell's is Π h).
     pub fn volumes(&self) -> Option<Vec<f64>> {
-        self.is_graded()
-            .then(|| (0..self.cells()).map(|i| self.volume(self.coords(i))).collect())
+        self.is_graded().then(|| {
+            (0..self.cells())
+                .map(|i| self.volume(self.coords(i)))
+                .collect()
+        })
     }
 
     pub fn cells(&self) -> usize {
@@ -143,7 +146,12 @@ impl Grid {
         plans.iter().any(Option::is_some).then(|| {
             let n = self.n;
             let mut plans = plans.into_iter();
-            [0, 1, 2].map(|d| plans.next().flatten().unwrap_or_else(|| (0..n[d]).collect()))
+            [0, 1, 2].map(|d| {
+                plans
+                    .next()
+                    .flatten()
+                    .unwrap_or_else(|| (0..n[d]).collect())
+            })
         })
     }
 

@@ -101,9 +101,8 @@ impl Stencil {
                 });
                 let weight = [(1, j, false), (1, j, true), (2, k, false), (2, k, true)]
                     .map(|(d, c, up)| face_weight(g, d, c, up));
-                let halo_weight = [false, true].map(|up| {
-                    rank_axis.map_or(0.0, |d| face_weight(g, d, [0, j, k][d], up))
-                });
+                let halo_weight = [false, true]
+                    .map(|up| rank_axis.map_or(0.0, |d| face_weight(g, d, [0, j, k][d], up)));
                 lines.push(Line {
                     start,
                     beside: off.map(|o| o.map(|o| (start as isize + o) as usize)),

@@ -334,13 +334,21 @@ impl Incompressible {
         let graded = self.local.is_graded();
         self.for_each_cell_velocity(|c, v| {
             f(v, &mut value);
-            let volume = if graded { self.local.volume(self.local.coords(c)) } else { 1.0 };
+            let volume = if graded {
+                self.local.volume(self.local.coords(c))
+            } else {
+                1.0
+            };
             for (s, x) in sum.iter_mut().zip(&value) {
                 *s += if graded { x * volume } else { *x };
             }
         });
         self.part.comm.sum(&mut sum);
-        let volume: f64 = if graded { 1.0 } else { self.setup.grid.h.iter().product() };
+        let volume: f64 = if graded {
+            1.0
+        } else {
+            self.setup.grid.h.iter().product()
+        };
         (sum, volume)
     }
 
@@ -361,8 +369,11 @@ impl Incompressible {
     /// explicit advection reaches in one step whatever the flow's direction.
     pub fn courant(&self, dt: f64) -> f64 {
         let g = &self.local;
-        let inv_w: [Vec<f64>; 3] =
-            [0, 1, 2].map(|d| (0..g.n[d]).map(|i| 1.0 / g.axes[d].width(i as isize)).collect());
+        let inv_w: [Vec<f64>; 3] = [0, 1, 2].map(|d| {
+            (0..g.n[d])
+                .map(|i| 1.0 / g.axes[d].width(i as isize))
+                .collect()
+        });
         let mut most: f64 = 0.0;
         self.for_each_cell_velocity(|c, v| {
             let x = g.coords(c);

@@ -134,7 +134,13 @@ impl Multigrid {
             .map(|(l, (g, part))| {
                 let cells = g.cells();
                 let (parent, share) = match locals.get(l + 1) {
-                    Some(c) => transfer(g, c, &plans[l], part.slab.axis, [offsets[l], offsets[l + 1]]),
+                    Some(c) => transfer(
+                        g,
+                        c,
+                        &plans[l],
+                        part.slab.axis,
+                        [offsets[l], offsets[l + 1]],
+                    ),
                     None => (Vec::new(), Vec::new()),
                 };
                 let coarse_cells = locals.get(l + 1).map_or(0, |c| c.cells());

@@ -43,7 +43,9 @@ impl Part {
     pub fn on(comm: Arc<dyn Comm>, n: [usize; 3], sides: Sides) -> Part {
         let (axis, ranks) = (Part::axis(n), comm.ranks());
         let slab = Slab::along(n, axis, ranks, comm.rank());
-        let mut bounds: Vec<usize> = (0..ranks).map(|r| Slab::along(n, axis, ranks, r).lo).collect();
+        let mut bounds: Vec<usize> = (0..ranks)
+            .map(|r| Slab::along(n, axis, ranks, r).lo)
+            .collect();
         bounds.push(n[axis]);
         Part {
             comm,
@@ -113,7 +115,11 @@ impl Part {
             if !at_coarse_face {
                 return None;
             }
-            bounds.push(if b == plan.len() { plan[b - 1] + 1 } else { plan[b] });
+            bounds.push(if b == plan.len() {
+                plan[b - 1] + 1
+            } else {
+                plan[b]
+            });
         }
         let rank = self.comm.rank();
         let slab = Slab {

@@ -105,7 +105,11 @@ impl Poisson {
             None => self.grid.cells() as f64,
             Some(v) => part.sum(v.iter().sum::<f64>()),
         };
-        let mean = if singular { mean(b, part, volumes) } else { 0.0 };
+        let mean = if singular {
+            mean(b, part, volumes)
+        } else {
+            0.0
+        };
         let norm_b = (dot(b, b) - cells * mean * mean).max(0.0).sqrt();
         let mut res = dot(&self.r, &self.r).sqrt();
         // Relative to the larger of b and the first residual: a guess far

@@ -112,7 +112,11 @@ mod tests {
     /// periodic side the interpolation wraps.
     #[test]
     fn a_linear_field_is_read_exactly_between_cell_centres() {
-        let grid = Grid::uniform([6, 5, 4], [0.5, 0.25, 1.0], [[Bc::Neumann; 2], [Bc::Neumann; 2], [Bc::Periodic; 2]]);
+        let grid = Grid::uniform(
+            [6, 5, 4],
+            [0.5, 0.25, 1.0],
+            [[Bc::Neumann; 2], [Bc::Neumann; 2], [Bc::Periodic; 2]],
+        );
         let f = |x: [f64; 3]| 2.0 + 0.3 * x[0] - 1.1 * x[1] + 0.7 * x[2];
         // f of each cell's centre, in spacings (c + ½ along each axis).
         let values: Vec<f64> = (0..grid.cells())

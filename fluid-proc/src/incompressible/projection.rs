@@ -30,7 +30,9 @@ pub fn gradients(
     let m = face_counts(n, d);
     let stride = [1, n[0], n[0] * n[1]][d];
     // 1/g per face along d (`axis.rs`: 1/h on a uniform axis).
-    let inv_gap: Vec<f64> = (0..=n[d]).map(|f| 1.0 / g.axes[d].gap(f as isize)).collect();
+    let inv_gap: Vec<f64> = (0..=n[d])
+        .map(|f| 1.0 / g.axes[d].gap(f as isize))
+        .collect();
     rows::each_plain(out, m, |j, k, row| {
         for (i, o) in row.iter_mut().enumerate() {
             let c = [i, j, k];

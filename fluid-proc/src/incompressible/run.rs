@@ -149,7 +149,11 @@ impl Model for Flow {
         let g = flow.grid();
         let origin = flow.box_origin(self.origin);
         let faces = g.is_graded().then(|| {
-            [0, 1, 2].map(|d| (0..=g.n[d]).map(|i| origin[d] + g.axes[d].face(i)).collect())
+            [0, 1, 2].map(|d| {
+                (0..=g.n[d])
+                    .map(|i| origin[d] + g.axes[d].face(i))
+                    .collect()
+            })
         });
         Some(Cells {
             origin,

@@ -66,7 +66,9 @@ impl<'a> Axes<'a> {
     /// Σ_a scale·L_a at entry p, the i-th of a row starting at `at`.
     #[inline(always)]
     fn sum(&self, d: &[f64], p: usize, at: [usize; 3], i: usize) -> f64 {
-        (0..self.axes.len()).map(|t| self.term(t, d, p, at, i)).sum()
+        (0..self.axes.len())
+            .map(|t| self.term(t, d, p, at, i))
+            .sum()
     }
 
     /// The term of the t-th axis: the uniform stencil's own operations

@@ -392,7 +392,13 @@ pub const CASES: &[Case] = &[
     // Issue 45: the fine core of a graded box.
     Case {
         name: "flow-core-outside-the-box",
-        edit: |_| shipped_with("c9-graded", "upper = [5.5, 5.5, 4.0]", "upper = [5.5, 5.5, 30.0]"),
+        edit: |_| {
+            shipped_with(
+                "c9-graded",
+                "upper = [5.5, 5.5, 4.0]",
+                "upper = [5.5, 5.5, 30.0]",
+            )
+        },
         key: Some("fluid.box.core.lower"),
         says: "must lie inside the box",
         line_of: Some("lower = [-5.5, -5.5, -2.5]"),
@@ -408,7 +414,11 @@ pub const CASES: &[Case] = &[
         name: "flow-core-and-cells",
         edit: |_| {
             let cells = "upper = [8.0, 8.0, 24.0]         # m: the dissertation's 16 × 16 × 36 m";
-            shipped_with("c9-graded", cells, &format!("{cells}\ncells = [32, 32, 72]"))
+            shipped_with(
+                "c9-graded",
+                cells,
+                &format!("{cells}\ncells = [32, 32, 72]"),
+            )
         },
         key: Some("fluid.box.cells"),
         says: "cells follow from [fluid.box.core]",
