@@ -50,8 +50,8 @@ pub struct Stencil {
     /// 1/h² along a uniform x [1/m²].
     w: f64,
     /// Along a graded x, the weights of each cell's neighbours below and
-    /// above (empty on a uniform x).
-    x_weights: [Vec<f64>; 2],
+    /// above (None on a uniform x).
+    x_weights: Option<[Vec<f64>; 2]>,
     /// A's diagonal per cell.
     pub diag: Vec<f64>,
     lines: Vec<Line>,
@@ -118,10 +118,8 @@ impl Stencil {
                 (0..6).map(|t| diagonal_term(g, c, t / 2, t % 2 == 1)).sum()
             })
             .collect();
-        let x_weights = match g.axes[0].is_uniform() {
-            true => [Vec::new(), Vec::new()],
-            false => [false, true].map(|up| (0..nx).map(|i| face_weight(g, 0, i, up)).collect()),
-        };
+        let x_weights = (!g.axes[0].is_uniform())
+            .then(|| [false, true].map(|up| (0..nx).map(|i| face_weight(g, 0, i, up)).collect()));
         Stencil {
             grid: g.clone(),
             // The one width of a uniform x (a coarse level's nominal spacing
@@ -189,8 +187,8 @@ impl Stencil {
         };
         let value = |n: Option<usize>| n.map_or(0.0, &x);
         let mut s = match &self.x_weights {
-            [lo, hi] if !lo.is_empty() => lo[i] * value(below) + hi[i] * value(above),
-            _ => self.w * (value(below) + value(above)),
+            Some([lo, hi]) => lo[i] * value(below) + hi[i] * value(above),
+            None => self.w * (value(below) + value(above)),
         };
         for &(b, w) in rows {
             s += w * x(b + i);

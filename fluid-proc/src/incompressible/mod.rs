@@ -334,13 +334,13 @@ impl Incompressible {
         let graded = self.local.is_graded();
         self.for_each_cell_velocity(|c, v| {
             f(v, &mut value);
-            let volume = if graded {
-                self.local.volume(self.local.coords(c))
-            } else {
-                1.0
+            // x·1 is x to the bit: a uniform grid's sums stay plain.
+            let weight = match graded {
+                true => self.local.volume(self.local.coords(c)),
+                false => 1.0,
             };
             for (s, x) in sum.iter_mut().zip(&value) {
-                *s += if graded { x * volume } else { *x };
+                *s += x * weight;
             }
         });
         self.part.comm.sum(&mut sum);
