@@ -26,11 +26,6 @@ use serde::{Deserialize, Serialize};
 /// adjacent widths within about 1.2).
 pub const MAX_GROWTH: f64 = 1.2;
 
-/// The powers of two a graded axis's count is rounded up to a multiple
-/// of, the largest not above a quarter of it: so that the multigrid's
-/// levels halve it (fluid-proc's `multigrid.rs`).
-const HALVINGS: [usize; 3] = [8, 4, 2];
-
 /// `[fluid.box.core]`: the fine core of a graded box.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -64,7 +59,9 @@ impl Core {
             c.positive(&["spacing"], self.spacing, "m");
             c.rule(&["growth"], || format!("> 1, ≤ {MAX_GROWTH}"));
             c.rule(&["lower"], || "inside [fluid.box]".into());
-            c.rule(&["upper"], || "inside [fluid.box], above lower".into());
+            c.rule(&["upper"], || {
+                "inside [fluid.box], above lower, leaving parts cells growing from it fill".into()
+            });
             if !(self.growth > 1.0 && self.growth <= MAX_GROWTH) {
                 c.problem(
                     &["growth"],
@@ -76,24 +73,49 @@ impl Core {
                     ),
                 );
             }
-            let outside = (0..3).find(|&d| {
-                !(lower[d] <= self.lower[d]
-                    && self.lower[d] < self.upper[d]
-                    && self.upper[d] <= upper[d])
-            });
-            if let Some(d) = outside {
-                c.problem(
-                    &["lower"],
-                    format!(
-                        "the core from {:?} to {:?} must lie inside the box from {lower:?} to \
-                         {upper:?}, its upper corner above its lower (along {})",
-                        self.lower,
-                        self.upper,
-                        ["x", "y", "z"][d]
-                    ),
-                );
-            }
+            self.check_placement(c, lower, upper);
         });
+    }
+
+    /// The core inside the box, and its outer parts ones that cells
+    /// growing from it fill.
+    fn check_placement(&self, c: &mut Checker, lower: [f64; 3], upper: [f64; 3]) {
+        let outside = (0..3).find(|&d| {
+            !(lower[d] <= self.lower[d]
+                && self.lower[d] < self.upper[d]
+                && self.upper[d] <= upper[d])
+        });
+        let grows = self.growth > 1.0 && self.spacing > 0.0;
+        let unfilled = (0..3).find(|&d| self.widths(lower, upper, d).is_none());
+        if let (None, true, Some(d)) = (outside, grows, unfilled) {
+            c.problem(
+                &["upper"],
+                format!(
+                    "the core's edges along {}, moved out to whole cells of {} m, leave a \
+                     part beside the box's side that cells growing from {} m by at most {} \
+                     cannot fill (one cell fills {} to {} m): move the core's edge by a part \
+                     of a cell, or the side",
+                    ["x", "y", "z"][d],
+                    self.spacing,
+                    self.spacing,
+                    self.growth,
+                    self.spacing,
+                    self.spacing * self.growth
+                ),
+            );
+        }
+        if let Some(d) = outside {
+            c.problem(
+                &["lower"],
+                format!(
+                    "the core from {:?} to {:?} must lie inside the box from {lower:?} to \
+                     {upper:?}, its upper corner above its lower (along {})",
+                    self.lower,
+                    self.upper,
+                    ["x", "y", "z"][d]
+                ),
+            );
+        }
     }
 }
 
@@ -101,10 +123,14 @@ impl Core {
 /// hi] (from the axis's start) has cells of width `h`, growing by at most
 /// `growth` per cell toward each end. The core's ends move outward to
 /// whole cells. Each outer part takes the fewest whole cells that reach its
-/// end at that growth, a few more where the count must reach a multiple of
-/// a power of two, and the growth that fits them into it exactly. A core
+/// end at that growth, and the growth that fits them into it exactly (any
+/// count: the multigrid merges a graded axis's cells pair by pair where
+/// they are fine, fluid-proc's `Axis::coarse_plan`, not by halving it). A core
 /// spanning the axis gives uniform cells (as many as fit, at least one).
-/// None where the core does not fit.
+/// None where the core does not fit, or leaves an outer part such cells
+/// cannot fill: one cell of h·r with 1 ≤ r ≤ growth fills from h to
+/// h·growth, two from 2h to h(g + g²), and so on (a part of 0.44 m beside
+/// cells of 0.71 m would need cells narrower than the core's).
 pub fn graded_widths(length: f64, core: [f64; 2], h: f64, growth: f64) -> Option<Vec<f64>> {
     let [lo, hi] = core;
     let slack = 1e-9 * length;
@@ -123,13 +149,10 @@ pub fn graded_widths(length: f64, core: [f64; 2], h: f64, growth: f64) -> Option
         return None;
     }
     let parts = [below, above.max(0.0)];
-    let mut m = parts.map(|l| fewest_cells(l, h, growth));
-    let n = cells + m[0] + m[1];
-    let multiple = HALVINGS.iter().copied().find(|&k| n >= 4 * k).unwrap_or(1);
-    let extra = n.next_multiple_of(multiple) - n;
-    if m[0] + m[1] > 0 {
-        let low = extra * m[0] / (m[0] + m[1]);
-        m = [m[0] + low, m[1] + extra - low];
+    let m = parts.map(|l| fewest_cells(l, h, growth));
+    // Fewer cells cannot reach the side; these, not one narrower than h.
+    if (0..2).any(|s| (m[s] as f64) * h > parts[s] * (1.0 + 1e-12)) {
+        return None;
     }
     let mut w: Vec<f64> = outer(parts[0], h, m[0]).into_iter().rev().collect();
     w.extend(std::iter::repeat_n(h, cells));
@@ -179,8 +202,8 @@ mod tests {
     use super::*;
 
     /// The graded widths fill the length exactly, keep the core uniform at
-    /// h, grow by no more than the growth from cell to cell, and come in a
-    /// count the multigrid halves.
+    /// h, grow by no more than the growth from cell to cell, and are the
+    /// fewest that do: one cell fewer on a side could not reach it.
     #[test]
     fn graded_widths_fill_the_axis_within_their_growth() {
         let w = graded_widths(20.0, [7.5, 12.5], 0.25, 1.1).unwrap();
@@ -191,9 +214,22 @@ mod tests {
             assert!((1.0 / 1.1 - 1e-12..=1.1 + 1e-12).contains(&q), "ratio {q}");
         }
         assert_eq!(w.iter().filter(|&&x| x == 0.25).count(), 20);
-        assert_eq!(w.len() % 8, 0, "{} cells halve thrice", w.len());
+        // 7.5 m on each side: 13 cells growing by 1.1 reach 6.74 m, 14 reach 7.69.
+        let below = w.iter().take_while(|&&x| x != 0.25).count();
+        assert_eq!((below, w.len()), (14, 48), "{w:?}");
+        assert!(reach(0.25, 1.1, below - 1) < 7.5 && reach(0.25, 1.1, below) >= 7.5);
         // A core spanning the axis: uniform cells; one outside: none.
         assert_eq!(graded_widths(0.5, [0.0, 0.5], 0.5, 1.1), Some(vec![0.5]));
         assert_eq!(graded_widths(2.0, [1.0, 3.0], 0.5, 1.1), None);
+        // The core's top moved out to 10 m leaves 0.2 m, narrower than a
+        // core cell; to 9.5 m, 0.7 m, between what one cell of 0.5 m
+        // growing by 1.1 fills (0.5–0.55 m) and two (1.0–1.155 m): none.
+        // To 8.5 m, 1.7 m: three cells.
+        assert_eq!(graded_widths(10.2, [1.0, 9.6], 0.5, 1.1), None);
+        assert_eq!(graded_widths(10.2, [1.0, 9.3], 0.5, 1.1), None);
+        assert_eq!(
+            graded_widths(10.2, [1.0, 8.5], 0.5, 1.1).map(|w| w.len()),
+            Some(20)
+        );
     }
 }

@@ -38,6 +38,10 @@ pub struct Axis {
     uniform: Option<f64>,
     /// A graded axis's faces 0..=n from its start [m] (empty if uniform).
     faces: Vec<f64>,
+    /// A graded axis's cell centres 0..n from the box's low side [m]
+    /// (`place` of i + ½, looked up: the immersed kernels read them for
+    /// every marker; empty if uniform).
+    centres: Vec<f64>,
 }
 
 impl Axis {
@@ -48,6 +52,7 @@ impl Axis {
             start: 0.0,
             uniform: Some(h),
             faces: Vec::new(),
+            centres: Vec::new(),
         }
     }
 
@@ -80,7 +85,17 @@ impl Axis {
             start: 0.0,
             uniform: None,
             faces,
+            centres: Vec::new(),
         }
+        .with_centres()
+    }
+
+    /// A graded axis with its centres' table filled.
+    fn with_centres(mut self) -> Axis {
+        if self.uniform.is_none() {
+            self.centres = (0..self.n()).map(|i| self.place(i as f64 + 0.5)).collect();
+        }
+        self
     }
 
     /// Cells along an axis of `length` [m] graded from `core` = [lo, hi]
@@ -138,7 +153,10 @@ impl Axis {
     pub fn centre(&self, i: i64) -> f64 {
         match self.uniform {
             Some(h) => (i as f64 + 0.5) * h + self.start,
-            None => self.place(i as f64 + 0.5),
+            None => match usize::try_from(i).ok().and_then(|i| self.centres.get(i)) {
+                Some(&c) => c,
+                None => self.place(i as f64 + 0.5),
+            },
         }
     }
 
@@ -195,7 +213,9 @@ impl Axis {
             start: self.face(lo),
             uniform: self.uniform,
             faces,
+            centres: Vec::new(),
         }
+        .with_centres()
     }
 
     /// Every cell split in two (a grid convergence study's next grid): the

@@ -406,7 +406,15 @@ impl Incompressible {
         }
         let (viscous_iterations, kept_prediction) = self.predict(dt, first)?;
         self.force_immersed(dt);
+        // A later try starts its solve from the last try's correction.
+        let last = self.prediction.as_ref().map(|p| &p.correction);
+        if let (true, Some(last)) = (kept_prediction, last.filter(|l| l.len() == self.phi.len())) {
+            self.phi.copy_from_slice(last);
+        }
         let (pressure_iterations, pressure_seconds) = self.project(dt)?;
+        if let (true, Some(p)) = (first, self.prediction.as_mut()) {
+            p.correction.clone_from(&self.phi);
+        }
         self.last_dt = Some(dt);
         self.time += dt;
         Ok(StepReport {

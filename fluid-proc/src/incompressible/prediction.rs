@@ -14,6 +14,14 @@
 //! last advection term and the solves' first guess), the two step lengths,
 //! and the sides' values. A kept prediction therefore gives the very bits a
 //! fresh one would.
+//!
+//! The pressure solve reads more than the window's start: the interface's
+//! forcing changes u* from try to try, but less and less as the tries
+//! converge. A later try's solve therefore starts from the last try's φ
+//! (`Prediction::correction`) rather than the window's first guess and
+//! stops at the same residual, 10⁻⁸ of ‖b‖: fewer iterations, the same flow
+//! to the solve's tolerance; a window taken again from its checkpoint, its
+//! tries in the same order, still gives the same bits.
 
 use crate::incompressible::faces::Faces;
 use crate::incompressible::side::Sides;
@@ -77,6 +85,9 @@ pub struct Prediction {
     /// Per component: Nⁿ and δ (padded, as `Work` holds them).
     pub kept: [(Vec<f64>, Vec<f64>); 3],
     pub viscous_iterations: usize,
+    /// The last try's pressure correction φ of the window's first step:
+    /// the next try's first guess (empty before the first try's).
+    pub correction: Vec<f64>,
 }
 
 impl Prediction {

@@ -405,10 +405,20 @@ pub const CASES: &[Case] = &[
     },
     Case {
         name: "flow-core-growing-too-fast",
-        edit: |_| shipped_with("c9-graded", "growth = 1.1 ", "growth = 1.5 "),
+        edit: |_| shipped_with("c9-graded", "growth = 1.2 ", "growth = 1.5 "),
         key: Some("fluid.box.core.growth"),
         says: "at most 1.2 times as wide",
         line_of: Some("growth = 1.5"),
+    },
+    Case {
+        // Cells of 0.9 m: the core's top along x moves out to 13.5 m from
+        // the box's low side, leaving 2.5 m, more than two cells growing
+        // by 1.2 reach (2.376 m) and less than three fill (2.7 m).
+        name: "flow-core-leaving-a-part-no-cells-fill",
+        edit: |_| shipped_with("c9-graded", "spacing = 0.25 ", "spacing = 0.9 "),
+        key: Some("fluid.box.core.upper"),
+        says: "cannot fill",
+        line_of: Some("upper = [5.5, 5.5, 4.0]"),
     },
     Case {
         name: "flow-core-and-cells",
