@@ -78,7 +78,7 @@ use crate::incompressible::immersed::{force, Air, ImmersedBody};
 use crate::incompressible::padded::Padded;
 use crate::incompressible::part::{Halo, Part};
 use crate::incompressible::poisson::{Poisson, SolveError};
-use crate::incompressible::prediction::{Inputs, Prediction, State};
+use crate::incompressible::prediction::Prediction;
 use crate::incompressible::projection::project;
 use crate::incompressible::side::{bcs, Sides};
 use crate::incompressible::viscosity::ViscousError;
@@ -406,14 +406,12 @@ impl Incompressible {
         }
         let (viscous_iterations, kept_prediction) = self.predict(dt, first)?;
         self.force_immersed(dt);
-        // A later try starts its solve from the last try's correction.
-        let last = self.prediction.as_ref().map(|p| &p.correction);
-        if let (true, Some(last)) = (kept_prediction, last.filter(|l| l.len() == self.phi.len())) {
-            self.phi.copy_from_slice(last);
+        if let (true, Some(p)) = (kept_prediction, &self.prediction) {
+            p.guess(&mut self.phi);
         }
         let (pressure_iterations, pressure_seconds) = self.project(dt)?;
-        if let (true, Some(p)) = (first, self.prediction.as_mut()) {
-            p.correction.clone_from(&self.phi);
+        if let (true, Some(p)) = (first, &mut self.prediction) {
+            p.keep_correction(&self.phi);
         }
         self.last_dt = Some(dt);
         self.time += dt;
@@ -448,61 +446,6 @@ impl Incompressible {
         };
         self.apply_change(dt);
         Ok(predicted)
-    }
-
-    /// What step 1 reads, for a kept prediction's check.
-    fn state(&self, dt: f64) -> State<'_> {
-        let history = std::array::from_fn(|c| match &self.work[c] {
-            Some(w) => (w.n[0].as_slice(), w.delta.data.as_slice()),
-            None => (&[][..], &[][..]),
-        });
-        State {
-            dt,
-            last_dt: self.last_dt,
-            sides: &self.sides,
-            u: &self.u,
-            q: &self.q,
-            history,
-        }
-    }
-
-    /// [`Incompressible::change`], or the kept one where it was computed
-    /// from the same state (then true); a computed one is kept.
-    fn change_kept(&mut self, dt: f64) -> Result<(usize, bool), FlowError> {
-        let mut prediction = self.prediction.take().unwrap_or_default();
-        // Every rank takes its kept change or none does: the solves sum
-        // over the ranks.
-        let miss = !prediction.holds_for(&self.state(dt)) as u8 as f64;
-        let result = match self.part.max(miss) == 0.0 {
-            true => {
-                for (w, (n, delta)) in self.work.iter_mut().zip(&prediction.kept) {
-                    if let Some(w) = w {
-                        w.n.rotate_right(1);
-                        w.n[0].copy_from_slice(n);
-                        w.delta.data.copy_from_slice(delta);
-                    }
-                }
-                Ok((prediction.viscous_iterations, true))
-            }
-            false => {
-                prediction.forget();
-                let inputs = Inputs::of(&self.state(dt));
-                let computed = self.change(dt);
-                if let Ok(iterations) = computed {
-                    for (w, kept) in self.work.iter().zip(&mut prediction.kept) {
-                        if let Some(w) = w {
-                            kept.0.clone_from(&w.n[0]);
-                            kept.1.clone_from(&w.delta.data);
-                        }
-                    }
-                    prediction.viscous_iterations = iterations;
-                    prediction.computed_from(inputs);
-                }
-                computed.map(|iterations| (iterations, false))
-            }
-        };
-        self.prediction = Some(prediction);
-        result
     }
 
     /// The change δ = u* − uⁿ of each component over the step, before the

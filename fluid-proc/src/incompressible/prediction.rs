@@ -25,6 +25,7 @@
 
 use crate::incompressible::faces::Faces;
 use crate::incompressible::side::Sides;
+use crate::incompressible::{FlowError, Incompressible};
 
 /// What step 1 reads beyond the constant grid and viscosity, in place.
 pub struct State<'a> {
@@ -105,6 +106,79 @@ impl Prediction {
     /// the caller has just filled, were computed from.
     pub fn computed_from(&mut self, inputs: Inputs) {
         self.from = Some(inputs);
+    }
+
+    /// A later try's first guess of the pressure correction: the last
+    /// try's, into `phi` (left as it is before there is one).
+    pub fn guess(&self, phi: &mut [f64]) {
+        if self.correction.len() == phi.len() {
+            phi.copy_from_slice(&self.correction);
+        }
+    }
+
+    /// `phi`, solved in this try's first step: the next try's guess.
+    pub fn keep_correction(&mut self, phi: &[f64]) {
+        self.correction.clear();
+        self.correction.extend_from_slice(phi);
+    }
+}
+
+/// A flow's window prediction: what step 1 reads, and the change kept
+/// or computed.
+impl Incompressible {
+    /// What step 1 reads, for a kept prediction's check.
+    fn state(&self, dt: f64) -> State<'_> {
+        let history = std::array::from_fn(|c| match &self.work[c] {
+            Some(w) => (w.n[0].as_slice(), w.delta.data.as_slice()),
+            None => (&[][..], &[][..]),
+        });
+        State {
+            dt,
+            last_dt: self.last_dt,
+            sides: &self.sides,
+            u: &self.u,
+            q: &self.q,
+            history,
+        }
+    }
+
+    /// [`Incompressible::change`], or the kept one where it was computed
+    /// from the same state (then true); a computed one is kept.
+    pub(super) fn change_kept(&mut self, dt: f64) -> Result<(usize, bool), FlowError> {
+        let mut prediction = self.prediction.take().unwrap_or_default();
+        // Every rank takes its kept change or none does: the solves sum
+        // over the ranks.
+        let miss = !prediction.holds_for(&self.state(dt)) as u8 as f64;
+        let result = match self.part.max(miss) == 0.0 {
+            true => {
+                for (w, (n, delta)) in self.work.iter_mut().zip(&prediction.kept) {
+                    if let Some(w) = w {
+                        w.n.rotate_right(1);
+                        w.n[0].copy_from_slice(n);
+                        w.delta.data.copy_from_slice(delta);
+                    }
+                }
+                Ok((prediction.viscous_iterations, true))
+            }
+            false => {
+                prediction.forget();
+                let inputs = Inputs::of(&self.state(dt));
+                let computed = self.change(dt);
+                if let Ok(iterations) = computed {
+                    for (w, kept) in self.work.iter().zip(&mut prediction.kept) {
+                        if let Some(w) = w {
+                            kept.0.clone_from(&w.n[0]);
+                            kept.1.clone_from(&w.delta.data);
+                        }
+                    }
+                    prediction.viscous_iterations = iterations;
+                    prediction.computed_from(inputs);
+                }
+                computed.map(|iterations| (iterations, false))
+            }
+        };
+        self.prediction = Some(prediction);
+        result
     }
 }
 
