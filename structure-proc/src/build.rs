@@ -9,6 +9,7 @@ use crate::forces::delingette::{lame, TriangleSprings};
 use crate::lines::add_line;
 use crate::model::{Attachment, Model, NodeKind, Spring};
 use crate::network::Network;
+use crate::pack::pack_canopy;
 use crate::parachute::{circular_canopy, CanopyMesh};
 use crate::rectangle::{rectangle, Edge};
 use rigid_section::{BodySpec, RigidSection};
@@ -210,24 +211,30 @@ fn add_parachute(
 }
 
 /// The canopy of `p` placed over its confluence: the flat mesh (the fabric's
-/// rest state), where its nodes start (flat, or pre-shaped on a spherical
-/// cap), the confluence (on `body`, or below `height` so that the lines
+/// rest state), where its nodes start (flat, pre-shaped on a spherical
+/// cap, or packed at line stretch), the confluence (on `body`, or below `height` so that the lines
 /// reach it) and the height of the canopy's top.
 fn place_canopy(
     p: &Parachute,
     body: Option<&BodySpec>,
 ) -> Result<(CanopyMesh, Vec<f64>, [f64; 3], f64), MeshError> {
     let g = p.geometry();
+    let pleats = p.pack_diameter.map(|d| g.pleats(d)).transpose();
+    let pleats = pleats.map_err(MeshError)?;
     let mut mesh = match g.shape {
-        CanopyShape::Circular => circular_canopy(&g, p.resolution as usize, 0.0)?,
+        CanopyShape::Circular => circular_canopy(&g, p.resolution as usize, 0.0, pleats.as_ref())?,
         CanopyShape::Cross => cross_canopy(&g, p.resolution as usize, 0.0)?,
     };
     let mut start = mesh.points.clone();
     // Lines of length L from the skirt meet on the axis this far below its top.
-    let drop = match p.preshaped_diameter {
-        None => (g.line_length.powi(2) - g.skirt_radius().powi(2)).sqrt(),
-        Some(d) => {
+    let drop = match (p.preshaped_diameter, &pleats) {
+        (None, None) => (g.line_length.powi(2) - g.skirt_radius().powi(2)).sqrt(),
+        (Some(d), _) => {
             lay_on_dome(&mut start, g.dome_radius(d).map_err(MeshError)?);
+            confluence_depth(&start, &mesh.skirt, g.line_length)
+        }
+        (None, Some(pleats)) => {
+            pack_canopy(&mut start, &mesh.rings, pleats);
             confluence_depth(&start, &mesh.skirt, g.line_length)
         }
     };

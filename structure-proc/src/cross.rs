@@ -85,5 +85,6 @@ pub fn cross_canopy(g: &CanopyGeometry, cells: usize, z: f64) -> Result<CanopyMe
         seams: Vec::new(),
         skirt,
         vent,
+        rings: Vec::new(),
     })
 }

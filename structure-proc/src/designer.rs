@@ -1,5 +1,5 @@
 //! What a parachute designer reads (issue 23, item 4), every window: the
-//! payload's altitude and descent speed, the canopy's projected diameter,
+//! payload's altitude, descent and horizontal speed, the canopy's projected diameter,
 //! apex height and tilt, the air's drag on the canopy and its coefficient
 //! C_D0 = D/(½ρv²S₀) on the nominal area (Knacke, *Parachute Recovery
 //! Systems Design Manual*, 1992, ch. 5), the lines' pull on the payload and
@@ -17,9 +17,10 @@ const SECTORS: usize = 36;
 
 /// The monitors' names, `structure.parachute.<name>`; those of
 /// [`AIR_MONITORS`] only where a fluid sends the canopy's pressure.
-pub const PARACHUTE_MONITORS: [&str; 10] = [
+pub const PARACHUTE_MONITORS: [&str; 11] = [
     "parachute.altitude",
     "parachute.descent_speed",
+    "parachute.horizontal_speed",
     "parachute.projected_diameter",
     "parachute.apex_height",
     "parachute.tilt",
@@ -47,6 +48,14 @@ pub struct ParachuteParts {
     /// The air's density ρ [kg/m³] for C_D0; None without a fluid, which
     /// leaves the air's monitors out.
     pub air_density: Option<f64>,
+}
+
+impl ParachuteParts {
+    /// ½ρS₀ [kg/m], what C_D0 divides the speed squared by; None without
+    /// a fluid.
+    pub fn dynamic_area(&self) -> Option<f64> {
+        self.air_density.map(|rho| 0.5 * rho * self.nominal_area)
+    }
 }
 
 impl Model {
@@ -77,11 +86,12 @@ impl Model {
         let values = [
             payload.z,
             -velocity.z,
+            velocity.x.hypot(velocity.y),
             self.projected_diameter(&axis, &centroid),
             (apex - payload).dot(&axis),
             axis.z.clamp(-1.0, 1.0).acos().to_degrees(),
             drag,
-            drag / (0.5 * p.air_density.unwrap_or(f64::NAN) * speed * speed * p.nominal_area),
+            drag / (p.dynamic_area().unwrap_or(f64::NAN) * speed * speed),
             force.z,
             self.payload_force(p.hub).norm(),
             self.largest_line_tension(),

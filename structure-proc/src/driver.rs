@@ -200,6 +200,7 @@ pub fn run<S: Stepper>(
     let first = monitors(&m, omega_max, obstacles.as_ref(), stats, None);
     let n_s = section.substeps;
     let mut p = joining.declare(declaration(&m, obstacles.as_ref(), &first, n_s))?;
+    let record = Record::new(m.parachute.and_then(|p| p.dynamic_area()));
     let mut d = Driven {
         output: Output::new(p.run_dir(), &m),
         m,
@@ -213,7 +214,7 @@ pub fn run<S: Stepper>(
         pressure_window: None,
         saved: None,
         window_start: WindowStart::new(scene.scenario.coupling.bodies_iterate()),
-        record: Record::default(),
+        record,
     };
     p.reporting(|p| d.drive(p))?;
     drop(d.pressure.take());

@@ -27,6 +27,7 @@ pub mod model;
 pub mod network;
 pub mod opening;
 pub mod output;
+pub mod pack;
 pub mod parachute;
 pub mod rectangle;
 pub mod release;

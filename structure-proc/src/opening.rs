@@ -4,8 +4,11 @@
 //! coupler's stderr, through the participant library's summary.
 //!
 //! The steady descent is the run's last `STEADY` seconds: mean descent
-//! speed, its spread (largest less smallest over the mean), mean drag
-//! coefficient C_D0 and projected diameter D_p. The opening time is the
+//! speed, its spread (largest less smallest over the mean), the mean
+//! horizontal speed and the glide angle they make, C_D0 on the descent
+//! (from the air's force up, the weight it carries) and on the flight path
+//! (the drag against the motion), and the mean projected diameter D_p.
+//! The opening time is the
 //! first time D_p reaches 95 % of that steady D_p from below; a canopy
 //! released flat starts wider than it flies, so for one that never narrows
 //! below 95 % it is the first time D_p comes within 5 % of it. The peak
@@ -19,8 +22,9 @@ pub const SUMMARY: &str = "parachute";
 
 /// The designer's monitors on the summary's picture, `parachute.png`
 /// (those without a value, the air's without a fluid, are left out).
-const PICTURE: [&str; 6] = [
+const PICTURE: [&str; 7] = [
     "parachute.descent_speed",
+    "parachute.horizontal_speed",
     "parachute.projected_diameter",
     "parachute.drag",
     "parachute.drag_coefficient",
@@ -28,33 +32,72 @@ const PICTURE: [&str; 6] = [
     "parachute.tilt",
 ];
 
-/// The designer's monitors a row holds, after its time.
-const COLUMNS: [&str; 4] = [
-    "parachute.descent_speed",
-    "parachute.drag_coefficient",
-    "parachute.projected_diameter",
-    "parachute.payload_force",
-];
+/// One row of the record: the designer's monitors at one time.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Row {
+    /// [s]
+    pub time: f64,
+    /// The payload's −v_z [m/s].
+    pub descent_speed: f64,
+    /// The payload's speed across the vertical [m/s].
+    pub horizontal_speed: f64,
+    /// C_D0 on the flight path: the drag against the payload's motion
+    /// over ½ρ|v|²S₀ [1]; NaN without a fluid.
+    pub drag_coefficient: f64,
+    /// [m]
+    pub projected_diameter: f64,
+    /// The lines' pull on the payload [N].
+    pub payload_force: f64,
+    /// The air's force on the canopy along +z [N]; NaN without a fluid.
+    pub air_force_up: f64,
+}
 
-/// The rows the summary is taken from: (time, descent speed, C_D0, D_p,
-/// payload force) at the start and at each window end. A window taken
-/// again drops its rows with the checkpoint it restarts from
-/// ([`Record::truncate`]); a run checkpoint keeps them all.
+impl Row {
+    /// The row of `time` [s] from the designer's `monitors`; none for a
+    /// model without them. Without a fluid, the air's values read NaN.
+    fn of(time: f64, monitors: &[Monitor]) -> Option<Row> {
+        let value = |name: &str| {
+            let name = format!("parachute.{name}");
+            monitors.iter().find(|m| m.name == name).map(|m| m.value)
+        };
+        let or_nan = |name: &str| value(name).unwrap_or(f64::NAN);
+        Some(Row {
+            time,
+            descent_speed: value("descent_speed")?,
+            horizontal_speed: or_nan("horizontal_speed"),
+            drag_coefficient: or_nan("drag_coefficient"),
+            projected_diameter: or_nan("projected_diameter"),
+            payload_force: or_nan("payload_force"),
+            air_force_up: or_nan("air_force_up"),
+        })
+    }
+}
+
+/// The rows the summary is taken from, at the start and at each window
+/// end. A window taken again drops its rows with the checkpoint it
+/// restarts from ([`Record::truncate`]); a run checkpoint keeps them all.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Record {
-    pub rows: Vec<[f64; 5]>,
+    pub rows: Vec<Row>,
+    /// ½ρS₀ [kg/m], the air's density ρ times the nominal area S₀, halved:
+    /// what the descent's C_D0 divides by; None without a fluid.
+    pub dynamic_area: Option<f64>,
 }
 
 impl Record {
+    /// An empty record for a parachute whose C_D0 refers to ½ρS₀ =
+    /// `dynamic_area` [kg/m] (None without a fluid).
+    pub fn new(dynamic_area: Option<f64>) -> Record {
+        Record {
+            rows: Vec::new(),
+            dynamic_area,
+        }
+    }
+
     /// Adds the row of `time` [s] from the designer's `monitors`; none for
     /// a model without them. Without a fluid, C_D0 reads NaN.
     pub fn add(&mut self, time: f64, monitors: &[Monitor]) {
-        let value = |name: &str| monitors.iter().find(|m| m.name == name).map(|m| m.value);
-        let Some(speed) = value(COLUMNS[0]) else {
-            return;
-        };
-        let [_, cd, diameter, force] = COLUMNS.map(|c| value(c).unwrap_or(f64::NAN));
-        self.rows.push([time, speed, cd, diameter, force]);
+        self.rows.extend(Row::of(time, monitors));
     }
 
     /// Back to its first `rows` rows.
@@ -65,7 +108,7 @@ impl Record {
     /// The run's summary; None without a parachute's monitors or with
     /// fewer than two rows in its steady part.
     pub fn summary(&self) -> Option<Summary> {
-        let o = Opening::of(&self.rows)?;
+        let o = Opening::of(&self.rows, self.dynamic_area.unwrap_or(f64::NAN))?;
         Some(Summary::new(SUMMARY, o.values(), o.describe()).plotting(PICTURE))
     }
 }
@@ -80,7 +123,19 @@ pub struct Opening {
     pub descent_speed: f64,
     /// (max − min)/mean of the descent speed over the steady part.
     pub speed_spread: f64,
+    /// The mean speed across the vertical [m/s].
+    pub horizontal_speed: f64,
+    /// The flight path from the vertical, atan of the mean horizontal over
+    /// the mean descent speed [°].
+    pub glide_angle: f64,
+    /// The mean C_D0 on the flight path (the drag against the motion).
     pub drag_coefficient: f64,
+    /// C_D0 on the descent: the mean air force up over ½ρS₀ times the
+    /// mean descent speed squared, the coefficient of the handbook's rate
+    /// of descent v = √(2W/(ρS₀C_D0)) (Knacke 1992, ch. 5). In a steady
+    /// descent the force up is the weight; gliding, the drag on the path
+    /// is smaller by about cos³ of the glide angle.
+    pub descent_drag_coefficient: f64,
     pub projected_diameter: f64,
     /// None when D_p never comes near its steady value.
     pub opening_time: Option<f64>,
@@ -90,42 +145,50 @@ pub struct Opening {
 }
 
 impl Opening {
-    /// From rows of (time, descent speed, C_D0, D_p, payload force).
-    fn of(rows: &[[f64; 5]]) -> Option<Opening> {
-        let end = rows.last()?[0];
+    /// From `rows`, the descent's C_D0 referred to ½ρS₀ = `dynamic_area`.
+    fn of(rows: &[Row], dynamic_area: f64) -> Option<Opening> {
+        let end = rows.last()?.time;
         let steady_from = (end - STEADY).max(0.5 * end);
-        let steady: Vec<&[f64; 5]> = rows.iter().filter(|r| r[0] >= steady_from).collect();
+        let steady: Vec<&Row> = rows.iter().filter(|r| r.time >= steady_from).collect();
         if steady.len() < 2 {
             return None;
         }
-        let mean = |c: usize| steady.iter().map(|r| r[c]).sum::<f64>() / steady.len() as f64;
-        let speed = mean(1);
+        let mean =
+            |f: fn(&Row) -> f64| steady.iter().map(|r| f(r)).sum::<f64>() / steady.len() as f64;
+        let speed = mean(|r| r.descent_speed);
         let (lo, hi) = steady
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
-                (lo.min(r[1]), hi.max(r[1]))
+                (lo.min(r.descent_speed), hi.max(r.descent_speed))
             });
-        let diameter = mean(3);
-        let before = rows.iter().filter(|r| r[0] < steady_from);
+        let across = mean(|r| r.horizontal_speed);
+        let diameter = mean(|r| r.projected_diameter);
+        let before = rows.iter().filter(|r| r.time < steady_from);
         Some(Opening {
             descent_speed: speed,
             speed_spread: (hi - lo) / speed,
-            drag_coefficient: mean(2),
+            horizontal_speed: across,
+            glide_angle: across.atan2(speed).to_degrees(),
+            drag_coefficient: mean(|r| r.drag_coefficient),
+            descent_drag_coefficient: mean(|r| r.air_force_up) / (dynamic_area * speed * speed),
             projected_diameter: diameter,
             opening_time: opening_time(rows, diameter),
-            peak_opening_force: before.map(|r| r[4]).fold(0.0, f64::max),
+            peak_opening_force: before.map(|r| r.payload_force).fold(0.0, f64::max),
             steady_from,
         })
     }
 
     /// The values by name, as the manifest holds them: [s], [m/s], [1],
-    /// [1], [m], [s] (NaN: not reached), [N].
+    /// [m/s], [°], [1], [1], [m], [s] (NaN: not reached), [N].
     fn values(&self) -> Vec<(String, f64)> {
         [
             ("steady_from", self.steady_from),
             ("descent_speed", self.descent_speed),
             ("descent_speed_spread", self.speed_spread),
+            ("horizontal_speed", self.horizontal_speed),
+            ("glide_angle", self.glide_angle),
             ("drag_coefficient", self.drag_coefficient),
+            ("descent_drag_coefficient", self.descent_drag_coefficient),
             ("projected_diameter", self.projected_diameter),
             ("opening_time", self.opening_time.unwrap_or(f64::NAN)),
             ("peak_opening_force", self.peak_opening_force),
@@ -141,14 +204,19 @@ impl Opening {
             .map_or("not reached".into(), |t| format!("{t:.2} s"));
         let cd = match self.drag_coefficient.is_nan() {
             true => "no C_D0 (no fluid)".to_string(),
-            false => format!("C_D0 {:.3}", self.drag_coefficient),
+            false => format!(
+                "C_D0 {:.3} on the descent, {:.3} on the flight path",
+                self.descent_drag_coefficient, self.drag_coefficient
+            ),
         };
         format!(
-            "parachute: steady descent {:.3} m/s (spread {:.1} % after t = {:.2} s), {cd}, \
-             projected diameter {:.2} m, opening time {opening}, peak opening force {:.0} N",
+            "parachute: steady descent {:.3} m/s (spread {:.1} % after t = {:.2} s, gliding \
+             {:.1}° from the vertical), {cd}, projected diameter {:.2} m, opening time \
+             {opening}, peak opening force {:.0} N",
             self.descent_speed,
             100.0 * self.speed_spread,
             self.steady_from,
+            self.glide_angle,
             self.projected_diameter,
             self.peak_opening_force
         )
@@ -157,19 +225,19 @@ impl Opening {
 
 /// The first time the projected diameter reaches 95 % of `steady` from
 /// below, or comes within 5 % of it when it never was below.
-fn opening_time(rows: &[[f64; 5]], steady: f64) -> Option<f64> {
+fn opening_time(rows: &[Row], steady: f64) -> Option<f64> {
     let low = 0.95 * steady;
     let mut was_below = false;
     for r in rows {
-        match r[3] < low {
+        match r.projected_diameter < low {
             true => was_below = true,
-            false if was_below => return Some(r[0]),
+            false if was_below => return Some(r.time),
             false => {}
         }
     }
     rows.iter()
-        .find(|r| (r[3] / steady - 1.0).abs() <= 0.05)
-        .map(|r| r[0])
+        .find(|r| (r.projected_diameter / steady - 1.0).abs() <= 0.05)
+        .map(|r| r.time)
 }
 
 #[cfg(test)]
@@ -181,7 +249,7 @@ mod tests {
     /// reached at 0.5 + 1.5·1.7/2 = 1.775 s, the row of 1.78 s.
     #[test]
     fn the_opening_time_is_the_first_reach_of_95_percent_from_below() {
-        let rows: Vec<[f64; 5]> = (0..=500)
+        let rows: Vec<Row> = (0..=500)
             .map(|i| {
                 let t = i as f64 * 0.01;
                 let d = match t {
@@ -194,10 +262,17 @@ mod tests {
                 } else {
                     1000.0
                 };
-                [t, 6.0 + 0.03 * (t * 7.0).sin(), 0.8, d, force]
+                Row {
+                    time: t,
+                    descent_speed: 6.0 + 0.03 * (t * 7.0).sin(),
+                    drag_coefficient: 0.8,
+                    projected_diameter: d,
+                    payload_force: force,
+                    ..Row::default()
+                }
             })
             .collect();
-        let o = Opening::of(&rows).unwrap();
+        let o = Opening::of(&rows, f64::NAN).unwrap();
         assert!((o.opening_time.unwrap() - 1.78).abs() < 1e-9, "{o:?}");
         assert_eq!(o.peak_opening_force, 3000.0);
         assert!((o.steady_from - 3.0).abs() < 1e-12);
@@ -231,15 +306,23 @@ mod tests {
             r.add(2.0, &row(6.0));
         }
         let bits = |r: &Record| {
+            let each = |w: &Row| {
+                [
+                    w.time,
+                    w.descent_speed,
+                    w.projected_diameter,
+                    w.payload_force,
+                ]
+            };
             r.rows
                 .iter()
-                .flatten()
+                .flat_map(each)
                 .map(|v| v.to_bits())
                 .collect::<Vec<_>>()
         };
         assert_eq!(bits(&again), bits(&once));
         // No fluid: C_D0 is NaN, and the summary says so (null in the manifest).
-        assert!(once.rows[2][2].is_nan());
+        assert!(once.rows[2].drag_coefficient.is_nan());
         let summary = once.summary().expect("two rows in the steady part");
         let cd = summary.values.iter().find(|(k, _)| k == "drag_coefficient");
         assert!(cd.is_some_and(|(_, v)| v.is_nan()), "{summary:?}");

@@ -6,6 +6,7 @@
 
 use crate::rings::{ring_mesh, MeshError, Ring};
 use structure_section::parachute::CanopyGeometry;
+use structure_section::Pleats;
 
 pub struct CanopyMesh {
     pub points: Vec<f64>,
@@ -16,10 +17,19 @@ pub struct CanopyMesh {
     pub skirt: Vec<usize>,
     /// The vent edge, or the centre node.
     pub vent: Vec<usize>,
+    /// Each node ring's first node and layout (none for a cross).
+    pub rings: Vec<(usize, Ring)>,
 }
 
-/// The canopy of `g` in the plane z = `z` with `rings` node rings.
-pub fn circular_canopy(g: &CanopyGeometry, rings: usize, z: f64) -> Result<CanopyMesh, MeshError> {
+/// The canopy of `g` in the plane z = `z` with `rings` node rings; a
+/// canopy to be packed into `pleats` has each ring wider than the pack
+/// meshed with a whole number of node pairs in every pleat.
+pub fn circular_canopy(
+    g: &CanopyGeometry,
+    rings: usize,
+    z: f64,
+    pleats: Option<&Pleats>,
+) -> Result<CanopyMesh, MeshError> {
     let (radius, vent) = (0.5 * g.diameter, 0.5 * g.vent);
     let gores = g.gores as usize;
     let centre = vent == 0.0;
@@ -44,10 +54,13 @@ pub fn circular_canopy(g: &CanopyGeometry, rings: usize, z: f64) -> Result<Canop
         .max(1.0);
     let layout: Vec<Ring> = radii
         .iter()
-        .map(|&r| Ring {
-            radius: r,
-            nodes: gores * ((per_gore * r / radius).round() as usize).max(1),
-            phase: 0.0,
+        .map(|&r| {
+            let flat = gores * ((per_gore * r / radius).round() as usize).max(1);
+            Ring {
+                radius: r,
+                nodes: pleats.map_or(flat, |p| p.ring_nodes(r, flat)),
+                phase: 0.0,
+            }
         })
         .collect();
     let mesh = ring_mesh(&layout, z, centre)?;
@@ -76,5 +89,6 @@ pub fn circular_canopy(g: &CanopyGeometry, rings: usize, z: f64) -> Result<Canop
         seams,
         skirt,
         vent: vent_nodes,
+        rings: mesh.ring_start.into_iter().zip(layout).collect(),
     })
 }

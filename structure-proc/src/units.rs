@@ -12,7 +12,7 @@ pub fn unit_of(name: &str) -> &'static str {
         OMEGA_MAX_MONITOR => "rad/s",
         "collision_impulses" => "impulses",
         "parachute.altitude" | "parachute.projected_diameter" | "parachute.apex_height" => "m",
-        "parachute.descent_speed" => "m/s",
+        "parachute.descent_speed" | "parachute.horizontal_speed" => "m/s",
         "parachute.tilt" => "°",
         "parachute.drag_coefficient" => "1",
         "parachute.drag"

@@ -6,25 +6,11 @@
 //! reaching the confluence at their rest length, and the fabric's mass the
 //! flat canopy's.
 
+mod common;
+
+use common::{c9_drop, distance, point};
 use structure_proc::{build_model, Model};
-use structure_section::{ParachuteModel, Scene, StructureSection};
-
-fn c9_drop(change: impl FnOnce(&mut structure_section::Parachute)) -> StructureSection {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/c9-drop.toml");
-    let mut s = Scene::load_file(std::path::Path::new(path), "structure-proc")
-        .unwrap()
-        .structure;
-    change(s.parachute.as_mut().unwrap());
-    s
-}
-
-fn point(m: &Model, n: usize) -> [f64; 3] {
-    [m.x[3 * n], m.x[3 * n + 1], m.x[3 * n + 2]]
-}
-
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
+use structure_section::ParachuteModel;
 
 /// Length of line `l` end to end (skirt to confluence) and its rest length.
 fn line_reach(m: &Model, l: usize) -> (f64, f64) {

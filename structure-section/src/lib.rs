@@ -16,10 +16,12 @@ pub mod canopy_in_flow;
 pub mod collision;
 mod dome;
 pub mod integrator;
+pub mod pack;
 pub mod parachute;
 mod scene;
 pub mod sheets;
 
+pub use pack::Pleats;
 pub use scene::Scene;
 pub use sheets::{Cords, Disk};
 

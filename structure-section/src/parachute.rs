@@ -117,7 +117,7 @@ pub struct Parachute {
     /// or for a cross, mesh cells across an arm.
     #[serde(default = "default_resolution")]
     pub resolution: u32,
-    /// Height of the flat canopy, or of a pre-shaped one's apex [m].
+    /// Height of the flat canopy, or of a pre-shaped or packed one's top [m].
     #[serde(default)]
     pub height: f64,
     /// Start pre-shaped: the canopy laid on a spherical cap this wide
@@ -125,6 +125,13 @@ pub struct Parachute {
     /// left out.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preshaped_diameter: Option<f64>,
+    /// Start packed, at line stretch: the canopy gathered along its axis
+    /// into a bundle this wide [m], its seams straight from the top (at
+    /// `height`) down to the skirt, its rings pleated into the pack (the
+    /// rings wider than it get 2 nodes or more in every pleat), the lines
+    /// straight and taut below; flat when left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pack_diameter: Option<f64>,
     pub fabric: Fabric,
     /// Extra stiffness [N/m] of the gore seams (the radial edges between gores).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -297,6 +304,18 @@ impl Parachute {
         if let Some(d) = self.preshaped_diameter {
             if let Err(msg) = self.geometry().dome_radius(d) {
                 c.problem(&["preshaped_diameter"], msg);
+            }
+        }
+        if let Some(d) = self.pack_diameter {
+            if self.preshaped_diameter.is_some() {
+                c.problem(
+                    &["pack_diameter"],
+                    "a canopy starts packed or pre-shaped, not both: leave out one of \
+                     pack_diameter and preshaped_diameter"
+                        .into(),
+                );
+            } else if let Err(msg) = self.geometry().pleats(d) {
+                c.problem(&["pack_diameter"], msg);
             }
         }
         self.fabric.check(c);

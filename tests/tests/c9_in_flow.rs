@@ -54,6 +54,18 @@ fn the_c9_inflates_and_descends_steadily_at_its_handbook_drag_coefficient() {
     // 5.97 to 6.27 m/s over the last second as C_D falls from 0.80 to
     // 0.73, the tilt under 0.6°). Asserted under 8 %.
     assert!(spread < 0.08, "{summary}");
+    // Steady, the air carries the weight (Newton's second law, the mean
+    // acceleration nil): C_D0 on the descent times ½ρS₀w̄² is the air's
+    // mean force up, which must be the parachute's weight, payload 100 kg,
+    // fabric 57.2 m² at 0.05 kg/m², lines 28 × 7 m at 5 g/m (measured
+    // 1025.5 N against 1018.3 N, 0.7 %; C_D0 0.816 on the descent, 0.787 on
+    // the path, gliding 7.1°). Asserted within 2 %.
+    let s0 = 0.25 * std::f64::consts::PI * C9_DIAMETER * C9_DIAMETER;
+    let w = number("descent_speed");
+    let up = number("descent_drag_coefficient") * 0.5 * fluid_section::AIR_DENSITY * s0 * w * w;
+    let mass = 100.0 + s0 * 0.05 + 28.0 * 7.0 * 0.005;
+    let weight = mass * rigid_section::STANDARD_GRAVITY;
+    assert!((up / weight - 1.0).abs() < 0.02, "{up} N up: {summary}");
     // Inflated: the projected diameter within 5 % of the handbook's range.
     let ratio = number("projected_diameter") / C9_DIAMETER;
     assert!(

@@ -154,3 +154,22 @@ pub fn network(
     net.prepare();
     net
 }
+
+/// The structure of `scenarios/c9-drop.toml`, its parachute changed by `change`.
+pub fn c9_drop(change: impl FnOnce(&mut structure_section::Parachute)) -> StructureSection {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/c9-drop.toml");
+    let mut s = structure_section::Scene::load_file(std::path::Path::new(path), "structure-proc")
+        .unwrap()
+        .structure;
+    change(s.parachute.as_mut().unwrap());
+    s
+}
+
+/// Node `n`'s position.
+pub fn point(m: &Model, n: usize) -> [f64; 3] {
+    [m.x[3 * n], m.x[3 * n + 1], m.x[3 * n + 2]]
+}
+
+pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}

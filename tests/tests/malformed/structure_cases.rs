@@ -11,6 +11,12 @@ const CLOTH_1E308: &str = "[structure.cloth]\nwidth = 1.0\ndepth = 1.0\nnodes_x 
 /// A C-9 on the ball, pre-shaped wider than its flat diameter, put before `[rigid]`.
 const PRESHAPED_WIDE: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\npreshaped_diameter = 9.0\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[rigid]\n";
 
+/// A C-9 on the ball packed as wide as it is flat, put before `[rigid]`.
+const PACKED_WIDE: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\npack_diameter = 9.0\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[rigid]\n";
+
+/// A C-9 on the ball asked to start both packed and pre-shaped.
+const PACKED_AND_PRESHAPED: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\npreshaped_diameter = 6.0\npack_diameter = 0.4\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[rigid]\n";
+
 /// A disk of no rings, put before `[rigid]`.
 const DISK_NO_RINGS: &str = "[structure.disk]\ndiameter = 1.0\nrings = 0\n\n[structure.disk.fabric]\nareal_density = 0.1\nstiffness = 10.0\n\n[rigid]\n";
 
@@ -318,5 +324,19 @@ pub const CASES: &[Case] = &[
         key: Some("structure.parachute.preshaped_diameter"),
         says: "to under D₀ = 8.534 m (flat: leave it out)",
         line_of: Some("preshaped_diameter = 9.0"),
+    },
+    Case {
+        name: "packed-as-wide-as-flat",
+        edit: |t| replace(t, "[rigid]\n", PACKED_WIDE),
+        key: Some("structure.parachute.pack_diameter"),
+        says: "must lie above 0 and under D₀ = 8.534 m",
+        line_of: Some("pack_diameter = 9.0"),
+    },
+    Case {
+        name: "packed-and-preshaped",
+        edit: |t| replace(t, "[rigid]\n", PACKED_AND_PRESHAPED),
+        key: Some("structure.parachute.pack_diameter"),
+        says: "starts packed or pre-shaped, not both",
+        line_of: Some("pack_diameter = 0.4"),
     },
 ];
