@@ -205,6 +205,7 @@ fn add_parachute(
     m.parachute = Some(ParachuteParts {
         hub,
         nominal_area: g.nominal_area(),
+        nominal_diameter: g.diameter,
         air_density: None,
     });
     Ok(())

@@ -45,6 +45,9 @@ pub struct ParachuteParts {
     pub hub: usize,
     /// The nominal area S₀ [m²].
     pub nominal_area: f64,
+    /// The nominal diameter D₀ [m] (a cross: its span), for the filling
+    /// constant n = t_f·v/D₀.
+    pub nominal_diameter: f64,
     /// The air's density ρ [kg/m³] for C_D0; None without a fluid, which
     /// leaves the air's monitors out.
     pub air_density: Option<f64>,

@@ -200,7 +200,7 @@ pub fn run<S: Stepper>(
     let first = monitors(&m, omega_max, obstacles.as_ref(), stats, None);
     let n_s = section.substeps;
     let mut p = joining.declare(declaration(&m, obstacles.as_ref(), &first, n_s))?;
-    let record = Record::new(m.parachute.and_then(|p| p.dynamic_area()));
+    let record = m.parachute.map(|p| Record::new(&p)).unwrap_or_default();
     let mut d = Driven {
         output: Output::new(p.run_dir(), &m),
         m,

@@ -13,8 +13,12 @@
 //! released flat starts wider than it flies, so for one that never narrows
 //! below 95 % it is the first time D_p comes within 5 % of it. The peak
 //! opening force is the largest pull of the lines on the payload before
-//! the steady part.
+//! the steady part. From the start's speed v (line stretch, for a packed
+//! start) come the handbook's two numbers of an opening (Knacke 1992,
+//! ch. 5): the opening-force coefficient C_x = F_peak/(½ρv²S₀C_D0) and the
+//! filling constant n = t_f·v/D₀, t_f the opening time less the start's.
 
+use crate::designer::ParachuteParts;
 use participant::{Monitor, Summary};
 
 /// The manifest key of the summary.
@@ -80,17 +84,19 @@ impl Row {
 pub struct Record {
     pub rows: Vec<Row>,
     /// ½ρS₀ [kg/m], the air's density ρ times the nominal area S₀, halved:
-    /// what the descent's C_D0 divides by; None without a fluid.
+    /// what C_D0 and C_x divide by; None without a fluid.
     pub dynamic_area: Option<f64>,
+    /// D₀ [m], what the filling constant divides by.
+    pub nominal_diameter: f64,
 }
 
 impl Record {
-    /// An empty record for a parachute whose C_D0 refers to ½ρS₀ =
-    /// `dynamic_area` [kg/m] (None without a fluid).
-    pub fn new(dynamic_area: Option<f64>) -> Record {
+    /// An empty record for the parachute of `parts`.
+    pub fn new(parts: &ParachuteParts) -> Record {
         Record {
             rows: Vec::new(),
-            dynamic_area,
+            dynamic_area: parts.dynamic_area(),
+            nominal_diameter: parts.nominal_diameter,
         }
     }
 
@@ -108,7 +114,11 @@ impl Record {
     /// The run's summary; None without a parachute's monitors or with
     /// fewer than two rows in its steady part.
     pub fn summary(&self) -> Option<Summary> {
-        let o = Opening::of(&self.rows, self.dynamic_area.unwrap_or(f64::NAN))?;
+        let reference = Reference {
+            dynamic_area: self.dynamic_area.unwrap_or(f64::NAN),
+            diameter: self.nominal_diameter,
+        };
+        let o = Opening::of(&self.rows, reference)?;
         Some(Summary::new(SUMMARY, o.values(), o.describe()).plotting(PICTURE))
     }
 }
@@ -116,6 +126,15 @@ impl Record {
 /// Seconds at the run's end taken as its steady descent (the issue's
 /// "last 2 s"), or the run's last half when it is shorter than twice that.
 pub const STEADY: f64 = 2.0;
+
+/// What the coefficients refer to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Reference {
+    /// ½ρS₀ [kg/m]; NaN without a fluid.
+    dynamic_area: f64,
+    /// D₀ [m].
+    diameter: f64,
+}
 
 /// What a run's parachute did.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -140,13 +159,27 @@ pub struct Opening {
     /// None when D_p never comes near its steady value.
     pub opening_time: Option<f64>,
     pub peak_opening_force: f64,
+    /// The payload's speed at the start [m/s]: at line stretch, for a
+    /// packed start.
+    pub start_speed: f64,
+    /// The opening time less the start's [s]: the filling time t_f from
+    /// line stretch, for a packed start.
+    pub filling_time: f64,
+    /// The opening-force coefficient C_x = F_peak/(q·S₀·C_D0), q = ½ρv²
+    /// at the start's speed and C_D0 the steady one on the flight path
+    /// (Knacke 1992, ch. 5: "infinite mass" when the speed holds).
+    pub opening_force_coefficient: f64,
+    /// The filling constant n = t_f·v/D₀ at the start's speed (Knacke
+    /// 1992, ch. 5).
+    pub filling_constant: f64,
     /// The steady part: from this time to the run's end [s].
     pub steady_from: f64,
 }
 
 impl Opening {
-    /// From `rows`, the descent's C_D0 referred to ½ρS₀ = `dynamic_area`.
-    fn of(rows: &[Row], dynamic_area: f64) -> Option<Opening> {
+    /// From `rows`, the coefficients referred to `reference`.
+    fn of(rows: &[Row], reference: Reference) -> Option<Opening> {
+        let dynamic_area = reference.dynamic_area;
         let end = rows.last()?.time;
         let steady_from = (end - STEADY).max(0.5 * end);
         let steady: Vec<&Row> = rows.iter().filter(|r| r.time >= steady_from).collect();
@@ -164,22 +197,39 @@ impl Opening {
         let across = mean(|r| r.horizontal_speed);
         let diameter = mean(|r| r.projected_diameter);
         let before = rows.iter().filter(|r| r.time < steady_from);
+        let peak = before.map(|r| r.payload_force).fold(0.0, f64::max);
+        let opening = opening_time(rows, diameter);
+        let start = rows[0];
+        // At rest at the start (NaN: no horizontal monitor), no C_x or n.
+        let start_speed = start.descent_speed.hypot(start.horizontal_speed);
+        let start_speed = if start_speed > 0.0 {
+            start_speed
+        } else {
+            f64::NAN
+        };
+        let filling_time = opening.map_or(f64::NAN, |t| t - start.time);
+        let on_path = mean(|r| r.drag_coefficient);
         Some(Opening {
             descent_speed: speed,
             speed_spread: (hi - lo) / speed,
             horizontal_speed: across,
             glide_angle: across.atan2(speed).to_degrees(),
-            drag_coefficient: mean(|r| r.drag_coefficient),
+            drag_coefficient: on_path,
             descent_drag_coefficient: mean(|r| r.air_force_up) / (dynamic_area * speed * speed),
             projected_diameter: diameter,
-            opening_time: opening_time(rows, diameter),
-            peak_opening_force: before.map(|r| r.payload_force).fold(0.0, f64::max),
+            opening_time: opening,
+            peak_opening_force: peak,
+            start_speed,
+            filling_time,
+            opening_force_coefficient: peak / (dynamic_area * start_speed.powi(2) * on_path),
+            filling_constant: filling_time * start_speed / reference.diameter,
             steady_from,
         })
     }
 
     /// The values by name, as the manifest holds them: [s], [m/s], [1],
-    /// [m/s], [°], [1], [1], [m], [s] (NaN: not reached), [N].
+    /// [m/s], [°], [1], [1], [m], [s] (NaN: not reached), [N], [m/s], [s],
+    /// [1], [1].
     fn values(&self) -> Vec<(String, f64)> {
         [
             ("steady_from", self.steady_from),
@@ -192,6 +242,10 @@ impl Opening {
             ("projected_diameter", self.projected_diameter),
             ("opening_time", self.opening_time.unwrap_or(f64::NAN)),
             ("peak_opening_force", self.peak_opening_force),
+            ("start_speed", self.start_speed),
+            ("filling_time", self.filling_time),
+            ("opening_force_coefficient", self.opening_force_coefficient),
+            ("filling_constant", self.filling_constant),
         ]
         .map(|(k, v)| (k.to_string(), v))
         .to_vec()
@@ -209,10 +263,18 @@ impl Opening {
                 self.descent_drag_coefficient, self.drag_coefficient
             ),
         };
+        // Knacke's two numbers, where the run gives them.
+        let handbook = match self.opening_force_coefficient.is_finite() {
+            true => format!(
+                " (C_x {:.2}, n {:.1} at the start's {:.1} m/s)",
+                self.opening_force_coefficient, self.filling_constant, self.start_speed
+            ),
+            false => String::new(),
+        };
         format!(
             "parachute: steady descent {:.3} m/s (spread {:.1} % after t = {:.2} s, gliding \
              {:.1}° from the vertical), {cd}, projected diameter {:.2} m, opening time \
-             {opening}, peak opening force {:.0} N",
+             {opening}, peak opening force {:.0} N{handbook}",
             self.descent_speed,
             100.0 * self.speed_spread,
             self.steady_from,
@@ -272,12 +334,57 @@ mod tests {
                 }
             })
             .collect();
-        let o = Opening::of(&rows, f64::NAN).unwrap();
+        let none = Reference {
+            dynamic_area: f64::NAN,
+            diameter: 8.0,
+        };
+        let o = Opening::of(&rows, none).unwrap();
         assert!((o.opening_time.unwrap() - 1.78).abs() < 1e-9, "{o:?}");
         assert_eq!(o.peak_opening_force, 3000.0);
         assert!((o.steady_from - 3.0).abs() < 1e-12);
         assert!((o.projected_diameter - 6.0).abs() < 1e-12);
         assert!(o.speed_spread < 0.06 / 6.0 + 1e-12 && o.speed_spread > 0.0);
+    }
+
+    /// An infinite-mass opening from line stretch, made to Knacke's
+    /// definitions (1992, ch. 5): held at 40 m/s, the projected diameter
+    /// growing from a 0.4 m pack to 6 m by 0.5 s, the lines' pull peaking
+    /// at 1.7·q·S₀·C_D0 at 0.4 s, C_D0 = 0.8 on the path. The filling time
+    /// is the first row at 95 % of 6 m (5.7 m at 0.5·5.3/5.6 s, the row of
+    /// 0.475 s), n = t_f·v/D₀, and C_x is the 1.7 put in.
+    #[test]
+    fn an_infinite_mass_opening_reads_the_handbooks_c_x_and_n() {
+        let (v, s0, d0, rho) = (40.0, 57.2, 8.534, 1.225);
+        let q = 0.5 * rho * v * v;
+        let rows: Vec<Row> = (0..=600)
+            .map(|i| {
+                let t = i as f64 * 0.005;
+                let peak = (t - 0.4).abs() < 1e-9;
+                Row {
+                    time: t,
+                    descent_speed: v,
+                    drag_coefficient: 0.8,
+                    projected_diameter: 0.4 + 5.6 * (t / 0.5).min(1.0),
+                    payload_force: if peak {
+                        1.7 * q * s0 * 0.8
+                    } else {
+                        q * s0 * 0.8
+                    },
+                    ..Row::default()
+                }
+            })
+            .collect();
+        let reference = Reference {
+            dynamic_area: 0.5 * rho * s0,
+            diameter: d0,
+        };
+        let o = Opening::of(&rows, reference).unwrap();
+        assert!((o.filling_time - 0.475).abs() < 1e-9, "{o:?}");
+        assert!((o.filling_constant - 0.475 * v / d0).abs() < 1e-9, "{o:?}");
+        assert!((o.opening_force_coefficient - 1.7).abs() < 1e-12, "{o:?}");
+        assert!(o
+            .describe()
+            .contains("C_x 1.70, n 2.2 at the start's 40.0 m/s"));
     }
 
     /// A window taken again leaves no row of its discarded try: the record

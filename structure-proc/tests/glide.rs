@@ -57,7 +57,7 @@ fn a_gliding_canopy_reads_cos_cubed_less_drag_on_its_path_than_on_its_descent() 
     let on_path = read("drag_coefficient");
     assert!((on_path / (on_descent * gamma.cos().powi(3)) - 1.0).abs() < 1e-12);
     // The run's summary over a steady glide of these rows says both.
-    let mut record = Record::new(m.parachute.unwrap().dynamic_area());
+    let mut record = Record::new(&m.parachute.unwrap());
     for k in 0..=20 {
         record.add(0.25 * k as f64, &monitors);
     }
