@@ -15,6 +15,8 @@
 //! It prints a table of medians: the force, the passes, their ratios to
 //! the force, and the crumpled pass per n log n (flat as n grows if the cost
 //! grows like n log n). Two threads, as a run uses them.
+//! `COLLISION_BENCH_N=100` measures one size; `COLLISION_BENCH_HELD_ONLY=1`
+//! times the crumpled cloth's held pass alone, 100 times, for a profiler.
 
 mod common;
 
@@ -122,6 +124,12 @@ fn main() {
             let closing: Vec<f64> = (0..m.x.len())
                 .map(|i| if i % 3 == 2 { -(x0[i] / gap).round() * CLOSING * layer } else { 0.0 })
                 .collect();
+            // `COLLISION_BENCH_HELD_ONLY=1`: the held pass alone, for a profiler.
+            if std::env::var("COLLISION_BENCH_HELD_ONLY").is_ok() {
+                let (held, impulses) = pass(&m, &x0, &closing, 100, false);
+                println!("held {held:.0} µs, {:.1} force evaluations ({impulses} impulses)", held / force);
+                continue;
+            }
             let (crumpled, impulses) = pass(&m, &x0, &closing, reps, true);
             let (held, _) = pass(&m, &x0, &closing, reps, false);
             let tris = m.triangles.len() as f64;
