@@ -58,7 +58,7 @@ fn the_c9_inflates_and_descends_steadily_at_its_handbook_drag_coefficient() {
     // acceleration nil): C_D0 on the descent times ½ρS₀w̄² is the air's
     // mean force up, which must be the parachute's weight, payload 100 kg,
     // fabric 57.2 m² at 0.05 kg/m², lines 28 × 7 m at 5 g/m (measured
-    // 1025.5 N against 1018.3 N, 0.7 %; C_D0 0.816 on the descent, 0.787 on
+    // 1024.9 N against 1018.3 N, 0.6 %; C_D0 0.816 on the descent, 0.787 on
     // the path, gliding 7.1°). Asserted within 2 %.
     let s0 = 0.25 * std::f64::consts::PI * C9_DIAMETER * C9_DIAMETER;
     let w = number("descent_speed");
