@@ -8,16 +8,15 @@
 //! the path is p·A·cos γ / (½ρ(w² + u²)S₀); C_D0 on the descent is
 //! p·A / (½ρw²S₀); the first is the second times cos³γ.
 
+mod common;
+
 use structure_proc::opening::Record;
 use structure_proc::{build_model, Model};
-use structure_section::Scene;
 
 const RHO: f64 = 1.225;
 
 fn flat_c9() -> Model {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/c9-drop.toml");
-    let s = Scene::load_file(std::path::Path::new(path), "structure-proc").unwrap();
-    let mut m = build_model(&s.structure, None, 1e-4).unwrap();
+    let mut m = build_model(&common::c9_drop(|_| {}), None, 1e-4).unwrap();
     m.parachute.as_mut().unwrap().air_density = Some(RHO);
     m
 }

@@ -31,9 +31,10 @@ fn largest_edge_strain(packed: &Model, flat: &[f64]) -> f64 {
     most
 }
 
-/// The strain the packed C-9's edges start with (largest over its
-/// triangles): only the edges across rings stretch, by the fold radius
-/// changing from ring to ring.
+/// The strain the packed canopies' edges may start with (largest over
+/// their triangles): the ring edges and the seams are exact, the edges
+/// across rings stretch where the fold radius changes from ring to ring
+/// (1.4 % measured on the C-9, in the fan round its apex).
 const STRAIN: f64 = 0.02;
 
 #[test]
@@ -87,18 +88,22 @@ fn a_packed_c9_starts_uncrossed_inside_its_pack_with_lines_taut() {
         }
     }
     // The fabric starts near its rest state: the pattern the mesh was cut
-    // from, every edge within STRAIN of its flat length, the seams' springs too.
+    // from, every edge within STRAIN of its flat length; the seams' springs
+    // (the springs that are not strings) exactly at theirs.
     let flat = circular_canopy(&g, 16, 0.0, Some(&pleats)).unwrap();
     assert_eq!(m.triangles, flat.triangles);
     let strain = largest_edge_strain(&m, &flat.points);
     assert!(strain < STRAIN, "largest edge strain {strain}");
-    for s in m.springs.iter().filter(|s| !s.tension_only) {
+    let seams = m.springs.iter().filter(|s| !s.tension_only);
+    assert!(seams.clone().count() > 0, "c9-drop has seam springs");
+    for s in seams {
         let now = distance(point(&m, s.i), point(&m, s.j));
         assert!(
-            (now / s.rest - 1.0).abs() < STRAIN,
-            "spring {}-{}",
+            (now / s.rest - 1.0).abs() < 1e-12,
+            "seam {}-{}: {now} of {} m",
             s.i,
-            s.j
+            s.j,
+            s.rest
         );
     }
 }
