@@ -159,6 +159,22 @@ impl Drop for Scratch {
     }
 }
 
+/// The shipped scenario `name` run once in this test process for every
+/// test that reads it: its output directory. The run is kept for the
+/// process's life (a static is never dropped), so a validation tier that
+/// shares it leaves this one run in the temporary folder.
+pub fn shipped_run(name: &str) -> &'static Path {
+    static RUNS: std::sync::Mutex<std::collections::BTreeMap<String, &'static Path>> =
+        std::sync::Mutex::new(std::collections::BTreeMap::new());
+    let mut runs = RUNS.lock().unwrap_or_else(|e| e.into_inner());
+    runs.entry(name.to_string()).or_insert_with(|| {
+        let dir: &'static Scratch = Box::leak(Box::new(scratch(name)));
+        let out: &'static Path = Box::leak(dir.join("run").into_boxed_path());
+        run_ok(&scenario_path(name), out);
+        out
+    })
+}
+
 pub fn scenario_path(name: &str) -> PathBuf {
     workspace().join("scenarios").join(format!("{name}.toml"))
 }

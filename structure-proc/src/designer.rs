@@ -155,9 +155,10 @@ impl Model {
         pulls.sum()
     }
 
-    /// The largest tension in any line segment [N].
+    /// The largest tension in any suspension line's segment [N].
     fn largest_line_tension(&self) -> f64 {
-        let springs = self.lines.iter().flat_map(|l| &l.springs);
+        let lines = self.lines.iter().filter(|l| !l.reefing);
+        let springs = lines.flat_map(|l| &l.springs);
         springs.fold(0.0, |most, &s| {
             most.max(self.net.springs[s].tension(&self.x))
         })

@@ -215,8 +215,13 @@ pub fn run<S: Stepper>(
         saved: None,
         window_start: WindowStart::new(scene.scenario.coupling.bodies_iterate()),
         record,
+        events: Vec::new(),
+        retried: scene.scenario.coupling.scheme.is_implicit(),
     };
-    p.reporting(|p| d.drive(p))?;
+    let driven = p.reporting(|p| d.drive(p));
+    // A run that stops says what its last try did too.
+    d.tell_events();
+    driven?;
     drop(d.pressure.take());
     if let Some(summary) = d.record.summary() {
         p.summarize(summary);
@@ -246,6 +251,13 @@ struct Driven<S> {
     window_start: WindowStart,
     /// The parachute's rows for the run's summary (`opening.rs`).
     record: Record,
+    /// What the window's sub-steps did (lines broken, the payload
+    /// released), told once the window stands: a try taken again forgets
+    /// its own, so the log has each event once, from the try that stood.
+    events: Vec<String>,
+    /// Whether windows are taken again (implicit coupling): else each
+    /// stands as it is taken.
+    retried: bool,
 }
 
 /// What structure-proc keeps in a run checkpoint (`[run]
@@ -299,14 +311,18 @@ impl<S: Stepper> Driven<S> {
                     p.done(monitors)?;
                 }
                 Command::SaveCheckpoint => {
+                    // A new window: the last one stood.
+                    self.tell_events();
                     self.save();
                     p.done(Vec::new())?;
                 }
                 Command::RestoreCheckpoint => {
+                    self.events.clear();
                     self.restore();
                     p.done(Vec::new())?;
                 }
                 Command::WriteCheckpoint { window } => {
+                    self.tell_events();
                     let state = self.run_state();
                     participant::restart::write(&p.state_file(window), &state)?;
                     p.done(Vec::new())?;
@@ -321,8 +337,18 @@ impl<S: Stepper> Driven<S> {
                     self.output.write(&self.m, index, time)?;
                     p.done(Vec::new())?;
                 }
-                Command::Stop => return Ok(()),
+                Command::Stop => {
+                    self.tell_events();
+                    return Ok(());
+                }
             }
+        }
+    }
+
+    /// Writes the events of the window that stood to the log.
+    fn tell_events(&mut self) {
+        for event in self.events.drain(..) {
+            eprintln!("{event}");
         }
     }
 
@@ -400,7 +426,11 @@ impl<S: Stepper> Driven<S> {
 
     fn advance(&mut self, p: &mut Participant, step: &Advance) -> Result<(), Error> {
         self.read_inputs(p, step)?;
-        if let Some(why) = self.substeps(step) {
+        let failed = self.substeps(step);
+        if !self.retried {
+            self.tell_events();
+        }
+        if let Some(why) = failed {
             return Err(why.into());
         }
         let m = &self.m;
@@ -515,15 +545,11 @@ impl<S: Stepper> Driven<S> {
             }
             time += h;
             let breaks = m.break_lines(time);
-            for event in &breaks {
-                eprintln!("{event}");
-            }
             if let (Some(c), false) = (&mut self.contacts, breaks.is_empty()) {
                 c.sync(&m.net);
             }
-            if let Some(event) = m.release(time) {
-                eprintln!("{event}");
-            }
+            self.events.extend(breaks);
+            self.events.extend(m.release(time));
         }
         let why = self.watch.check(m)?;
         Some(format!(

@@ -30,6 +30,7 @@ pub mod output;
 pub mod pack;
 pub mod parachute;
 pub mod rectangle;
+pub mod reefing;
 pub mod release;
 pub mod rings;
 pub mod sheets;

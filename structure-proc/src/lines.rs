@@ -1,6 +1,8 @@
 //! Suspension lines: chains of string segments (thesis eq. 3) from the skirt to
 //! the confluence, each with a rest-length change and a break rule of its own
-//! (dissertation §4.2.3: uneven and breaking lines).
+//! (dissertation §4.2.3: uneven and breaking lines); and the reefing line's
+//! segments round the skirt (`reefing.rs`), which break together when
+//! the line is cut.
 
 use crate::network::{Network, NodeKind, Spring};
 
@@ -13,6 +15,8 @@ pub struct Line {
     /// … or once a segment's tension exceeds this [N].
     pub break_tension: Option<f64>,
     pub broken: bool,
+    /// A segment of the reefing line (`reefing.rs`), not a suspension line.
+    pub reefing: bool,
 }
 
 impl Line {
@@ -77,14 +81,16 @@ pub fn add_line(
         break_time: None,
         break_tension: None,
         broken: false,
+        reefing: false,
     }
 }
 
 /// Break the `lines` of `net` whose time has come at `time` or whose
 /// tension at `x` is too high: the segment at the skirt stops carrying
-/// force. Returns a message per break.
+/// force. Returns a message per break, one for the whole reefing line.
 pub fn break_lines(lines: &mut [Line], net: &mut Network, x: &[f64], time: f64) -> Vec<String> {
     let mut events = Vec::new();
+    let mut cut: Option<f64> = None;
     for (index, line) in lines.iter_mut().enumerate() {
         if line.broken || (line.break_time.is_none() && line.break_tension.is_none()) {
             continue;
@@ -103,10 +109,19 @@ pub fn break_lines(lines: &mut [Line], net: &mut Network, x: &[f64], time: f64) 
             if let Some(d) = net.dampers.get_mut(top) {
                 d.c = 0.0;
             }
+            if line.reefing {
+                cut = Some(cut.unwrap_or(0.0).max(tension));
+                continue;
+            }
             events.push(format!(
                 "line {index} broke at t = {time:.6} s with tension {tension:.3} N"
             ));
         }
+    }
+    if let Some(tension) = cut {
+        events.push(format!(
+            "the reefing line was cut at t = {time:.6} s with tension {tension:.3} N"
+        ));
     }
     if !events.is_empty() {
         net.prepare();

@@ -159,6 +159,10 @@ pub struct Opening {
     /// None when D_p never comes near its steady value.
     pub opening_time: Option<f64>,
     pub peak_opening_force: f64,
+    /// When the peak came [s], and the payload's speed then [m/s]: what a
+    /// finite-mass opening's peak is read at (Knacke 1992, ch. 5).
+    pub peak_time: f64,
+    pub speed_at_peak: f64,
     /// The payload's speed at the start [m/s]: at line stretch, for a
     /// packed start.
     pub start_speed: f64,
@@ -197,7 +201,15 @@ impl Opening {
         let across = mean(|r| r.horizontal_speed);
         let diameter = mean(|r| r.projected_diameter);
         let before = rows.iter().filter(|r| r.time < steady_from);
-        let peak = before.map(|r| r.payload_force).fold(0.0, f64::max);
+        let measured = before.filter(|r| r.payload_force.is_finite());
+        // The first row of the largest pull.
+        let at_peak = measured.fold(None, |most: Option<&Row>, r| match most {
+            Some(m) if m.payload_force >= r.payload_force => Some(m),
+            _ => Some(r),
+        });
+        // No pull at all (nothing on the lines) is no peak: 0 N, at no time.
+        let at_peak = at_peak.filter(|r| r.payload_force > 0.0);
+        let peak = at_peak.map_or(0.0, |r| r.payload_force);
         let opening = opening_time(rows, diameter);
         let start = rows[0];
         // At rest at the start (NaN: no horizontal monitor), no C_x or n.
@@ -219,6 +231,8 @@ impl Opening {
             projected_diameter: diameter,
             opening_time: opening,
             peak_opening_force: peak,
+            peak_time: at_peak.map_or(f64::NAN, |r| r.time),
+            speed_at_peak: at_peak.map_or(f64::NAN, |r| r.descent_speed.hypot(r.horizontal_speed)),
             start_speed,
             filling_time,
             opening_force_coefficient: peak / (dynamic_area * start_speed.powi(2) * on_path),
@@ -228,8 +242,8 @@ impl Opening {
     }
 
     /// The values by name, as the manifest holds them: [s], [m/s], [1],
-    /// [m/s], [°], [1], [1], [m], [s] (NaN: not reached), [N], [m/s], [s],
-    /// [1], [1].
+    /// [m/s], [°], [1], [1], [m], [s] (NaN: not reached), [N], [s], [m/s],
+    /// [m/s], [s], [1], [1].
     fn values(&self) -> Vec<(String, f64)> {
         [
             ("steady_from", self.steady_from),
@@ -242,6 +256,8 @@ impl Opening {
             ("projected_diameter", self.projected_diameter),
             ("opening_time", self.opening_time.unwrap_or(f64::NAN)),
             ("peak_opening_force", self.peak_opening_force),
+            ("peak_time", self.peak_time),
+            ("speed_at_peak", self.speed_at_peak),
             ("start_speed", self.start_speed),
             ("filling_time", self.filling_time),
             ("opening_force_coefficient", self.opening_force_coefficient),
@@ -341,6 +357,9 @@ mod tests {
         let o = Opening::of(&rows, none).unwrap();
         assert!((o.opening_time.unwrap() - 1.78).abs() < 1e-9, "{o:?}");
         assert_eq!(o.peak_opening_force, 3000.0);
+        // The peak's row: its time and the payload's speed then.
+        assert!((o.peak_time - 1.0).abs() < 1e-12, "{o:?}");
+        assert_eq!(o.speed_at_peak, 6.0 + 0.03 * (0.01f64 * 100.0 * 7.0).sin());
         assert!((o.steady_from - 3.0).abs() < 1e-12);
         assert!((o.projected_diameter - 6.0).abs() < 1e-12);
         assert!(o.speed_spread < 0.06 / 6.0 + 1e-12 && o.speed_spread > 0.0);

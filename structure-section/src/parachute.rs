@@ -159,6 +159,10 @@ pub struct Parachute {
     /// Breaking lines (dissertation §4.2.3).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub line_breaks: Vec<LineBreak>,
+    /// A reefing line round the skirt, holding the mouth small until it
+    /// is cut; unreefed when left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reefing: Option<Reefing>,
     /// The parachute's velocity at release [m/s]: every node of canopy,
     /// lines and a mass-point payload starts with it; at rest, or the body
     /// payload's own `velocity` in `[[rigid.bodies]]`, when left out.
@@ -189,6 +193,30 @@ pub struct LineBreak {
     /// … or when the tension exceeds this [N].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tension: Option<f64>,
+}
+
+/// A reefing line through rings at the skirt's gore seams, holding the
+/// mouth to a circle of diameter τ·D₀ until cutters release it (Knacke,
+/// *Parachute Recovery Systems Design Manual*, 1992, ch. 6: the reefing
+/// ratio τ = D_R/D₀, D_R = L_R/π of a line of length L_R). The line is
+/// tied at each seam's ring: a segment from seam to seam, tension only,
+/// of the line's axial stiffness and mass per length.
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Reefing {
+    /// Reefing ratio τ = D_R/D₀: the line is π·τ·D₀ long.
+    pub ratio: f64,
+    /// The cutters fire at this time [s] and the line stops holding;
+    /// reefed to the end when left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cut_time: Option<f64>,
+}
+
+impl Reefing {
+    /// The line's length π·τ·D₀ [m] on a canopy of nominal diameter `d0`.
+    pub fn length(&self, d0: f64) -> f64 {
+        std::f64::consts::PI * self.ratio * d0
+    }
 }
 
 fn default_resolution() -> u32 {
@@ -223,6 +251,52 @@ impl Parachute {
             self.check_elements(c);
             self.check_payload(c, has_body);
             self.check_lines(c);
+            self.check_reefing(c);
+        });
+    }
+
+    /// A reefing line on a circular canopy whose skirt starts inside it:
+    /// packed or pre-shaped no wider than τ·D₀, so that the line starts
+    /// slack rather than snapping the skirt shut at t = 0.
+    fn check_reefing(&self, c: &mut Checker) {
+        let Some(r) = &self.reefing else { return };
+        c.within("reefing", None, |c| {
+            let g = self.geometry();
+            c.fraction(&["ratio"], r.ratio);
+            c.rule(&["ratio"], || {
+                "the skirt starts no wider than τ·D₀: packed or pre-shaped".into()
+            });
+            if !(r.ratio > 0.0 && r.ratio < 1.0) {
+                return;
+            }
+            if let Some(t) = r.cut_time {
+                c.finite_nonneg(&["cut_time"], t);
+            }
+            let skirt = self.pack_diameter.or(self.preshaped_diameter);
+            let reefed = r.ratio * g.diameter;
+            match skirt {
+                _ if g.shape == CanopyShape::Cross => c.problem(
+                    &["ratio"],
+                    "a cross canopy has no round skirt to reef".into(),
+                ),
+                None => c.problem(
+                    &["ratio"],
+                    format!(
+                        "a flat canopy's skirt (D₀ = {:.3} m) is wider than the reefed mouth \
+                         (τ·D₀ = {reefed:.3} m): reef a packed or pre-shaped start",
+                        g.diameter
+                    ),
+                ),
+                Some(d) if d > reefed => c.problem(
+                    &["ratio"],
+                    format!(
+                        "ratio = {} reefs the mouth to τ·D₀ = {reefed:.3} m, narrower than the \
+                         skirt starts ({d} m): the line would start stretched",
+                        r.ratio
+                    ),
+                ),
+                Some(_) => {}
+            }
         });
     }
 

@@ -12,8 +12,7 @@
 //! --ignored` (docs/src/commands.md). CI runs the coarse variants
 //! below (1 m cells).
 
-use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::path::Path;
 
 use canopy_tests::*;
 
@@ -23,16 +22,7 @@ const C9_DIAMETER: f64 = 8.534;
 /// `scenarios/c9-inflation.toml` as shipped, run once for every test here
 /// that reads it: its output directory.
 fn shipped_c9() -> &'static Path {
-    // Kept for the process's life (a static is never dropped): the
-    // validation tier leaves this one run in the temporary folder.
-    static RUN: OnceLock<(Scratch, PathBuf)> = OnceLock::new();
-    &RUN.get_or_init(|| {
-        let dir = scratch("c9-inflation");
-        let out = dir.join("run");
-        run_ok(&scenario_path("c9-inflation"), &out);
-        (dir, out)
-    })
-    .1
+    shipped_run("c9-inflation")
 }
 
 #[test]

@@ -13,6 +13,10 @@ const PRESHAPED_WIDE: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ba
 
 /// A C-9 on the ball packed as wide as it is flat, put before `[rigid]`.
 const PACKED_WIDE: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\npack_diameter = 9.0\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[rigid]\n";
+/// A reefed canopy: packed (or flat) with a reefing line of ratio τ.
+const REEFED_FLAT: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[structure.parachute.reefing]\nratio = 0.3\n\n[rigid]\n";
+const REEFED_TIGHT: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\npack_diameter = 1.0\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[structure.parachute.reefing]\nratio = 0.1\n\n[rigid]\n";
+const REEFED_WHOLE: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\npack_diameter = 1.0\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[structure.parachute.reefing]\nratio = 1.0\ncut_time = 0.5\n\n[rigid]\n";
 
 /// A C-9 on the ball asked to start both packed and pre-shaped.
 const PACKED_AND_PRESHAPED: &str = "[structure.parachute]\nmodel = \"c9\"\nbody = \"ball\"\nline_axial_stiffness = 8.0e3\nline_density = 5.0e-3\npreshaped_diameter = 6.0\npack_diameter = 0.4\n\n[structure.parachute.fabric]\nareal_density = 0.05\nstiffness = 1.0e3\n\n[rigid]\n";
@@ -338,5 +342,26 @@ pub const CASES: &[Case] = &[
         key: Some("structure.parachute.pack_diameter"),
         says: "starts packed or pre-shaped, not both",
         line_of: Some("pack_diameter = 0.4"),
+    },
+    Case {
+        name: "reefed-flat",
+        edit: |t| replace(t, "[rigid]\n", REEFED_FLAT),
+        key: Some("structure.parachute.reefing.ratio"),
+        says: "reef a packed or pre-shaped start",
+        line_of: Some("ratio = 0.3"),
+    },
+    Case {
+        name: "reefed-narrower-than-the-pack",
+        edit: |t| replace(t, "[rigid]\n", REEFED_TIGHT),
+        key: Some("structure.parachute.reefing.ratio"),
+        says: "the line would start stretched",
+        line_of: Some("ratio = 0.1"),
+    },
+    Case {
+        name: "reefed-to-the-whole-canopy",
+        edit: |t| replace(t, "[rigid]\n", REEFED_WHOLE),
+        key: Some("structure.parachute.reefing.ratio"),
+        says: "must lie strictly between 0 and 1",
+        line_of: Some("ratio = 1.0"),
     },
 ];
