@@ -12,7 +12,7 @@ use crate::network::Network;
 use crate::pack::pack_canopy;
 use crate::parachute::{circular_canopy, CanopyMesh};
 use crate::rectangle::{rectangle, Edge};
-use crate::reefing::{add_reefing_line, Cord};
+use crate::reefing::add_reefing_line;
 use rigid_section::{BodySpec, RigidSection};
 use std::collections::BTreeSet;
 use structure_section::parachute::CanopyShape;
@@ -195,13 +195,7 @@ fn add_parachute(
     m.canopy_height = z;
     let hub = add_confluence(m, p, confluence, body.is_some());
     add_suspension_lines(m, p, &mesh.skirt, hub);
-    if let Some(r) = &p.reefing {
-        let cord = Cord {
-            axial_stiffness: p.line_axial_stiffness,
-            density: p.line_density,
-        };
-        add_reefing_line(m, r, g.diameter, &mesh.skirt, cord);
-    }
+    add_reefing_line(m, p, &mesh.skirt);
     // The start: released at this velocity, or held by the payload first.
     let velocity = p.velocity.or(body.map(|b| b.velocity)).unwrap_or([0.0; 3]);
     for v in m.v.chunks_exact_mut(3) {

@@ -12,19 +12,13 @@
 
 use crate::lines::add_line;
 use crate::model::Model;
-use structure_section::parachute::Reefing;
+use structure_section::Parachute;
 
-/// The cord's material: axial stiffness E·A [N] and mass per length [kg/m].
-#[derive(Debug, Clone, Copy)]
-pub struct Cord {
-    pub axial_stiffness: f64,
-    pub density: f64,
-}
-
-/// Ties the reefing line `r` of a canopy of nominal diameter `d0` [m]
-/// through the seam nodes `skirt`, in order round the skirt.
-pub fn add_reefing_line(m: &mut Model, r: &Reefing, d0: f64, skirt: &[usize], cord: Cord) {
-    let rest = r.length(d0) / skirt.len() as f64;
+/// Ties the reefing line of `p`, if it has one, through the seam nodes
+/// `skirt`, in order round the skirt, of the suspension lines' material.
+pub fn add_reefing_line(m: &mut Model, p: &Parachute, skirt: &[usize]) {
+    let Some(r) = &p.reefing else { return };
+    let rest = r.length(p.geometry().diameter) / skirt.len() as f64;
     for (k, &from) in skirt.iter().enumerate() {
         let to = skirt[(k + 1) % skirt.len()];
         let mut segment = add_line(
@@ -33,8 +27,8 @@ pub fn add_reefing_line(m: &mut Model, r: &Reefing, d0: f64, skirt: &[usize], co
             to,
             1,
             rest,
-            cord.axial_stiffness,
-            cord.density,
+            p.line_axial_stiffness,
+            p.line_density,
         );
         segment.reefing = true;
         segment.break_time = r.cut_time;
