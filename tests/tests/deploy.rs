@@ -5,8 +5,9 @@
 //!
 //! CI runs the first 0.15 s, through the skirt's flutter right after line
 //! stretch, reefed with the cutters firing at 0.05 s, and the first 0.1 s
-//! of the free payload's opening. The shipped scenes' whole openings, held, free and reefed (about 15, 15 and 12 minutes),
-//! are in the validation tier, run with
+//! of the free payload's opening. The shipped scenes' whole openings,
+//! held, free and reefed (about 15, 15 and 12 minutes), are in the
+//! validation tier, run with
 //! `cargo test --release -p canopy-tests --test deploy -- --ignored`.
 
 use std::path::Path;
