@@ -248,3 +248,36 @@ fn the_reefed_c9_peaks_low_reefed_and_as_the_unreefed_one_disreefed() {
         "{disreefed} against {open} N"
     );
 }
+
+/// `scenarios/c9-deploy-reefed.toml` with its payload free from line
+/// stretch: the finite-mass case, where reefing is meant to lower the
+/// peak (Knacke 1992, ch. 6), against the unreefed free opening
+/// (`c9-deploy-free`). Measured on the 0.5 m cells: the reefed stage
+/// peaks at 10.6 kN at 0.47 s and 26.7 m/s, the disreefed canopy at
+/// 9.7 kN at 0.52 s and 22.3 m/s, against the unreefed free opening's
+/// 11.6 kN: the largest pull 9 % lower, and carried by the reefed stage,
+/// which on this grid already pulls hard while the payload is still fast
+/// (26.7 m/s at its peak, 23.7 m/s at the cut). Both peaks are pinned as measured within 15 %,
+/// and the largest under the unreefed one's.
+#[test]
+#[ignore = "validation tier, too long for CI: run with --ignored"]
+fn the_reefed_c9_on_a_free_payload_peaks_lower_than_unreefed() {
+    let dir = scratch("c9-deploy-reefed-free");
+    let path = variant("c9-deploy-reefed", &dir, |s| {
+        s.parachute_mut().release_time = Some(0.0);
+    });
+    let out = dir.join("run");
+    run_ok(&path, &out);
+    let reefed = Monitors::read(&out);
+    let (stage, disreefed) = (
+        largest_pull(&reefed, 0.0, 0.5),
+        largest_pull(&reefed, 0.5, 1.2),
+    );
+    assert!((stage / 10.6e3 - 1.0).abs() < 0.15, "{stage} N");
+    assert!((disreefed / 9.7e3 - 1.0).abs() < 0.15, "{disreefed} N");
+    let unreefed = largest_pull(&Monitors::read(shipped_run("c9-deploy-free")), 0.0, 1.5);
+    assert!(
+        stage.max(disreefed) < unreefed,
+        "{stage} and {disreefed} against {unreefed} N"
+    );
+}
