@@ -257,8 +257,8 @@ fn the_reefed_c9_peaks_low_reefed_and_as_the_unreefed_one_disreefed() {
 /// 9.7 kN at 0.52 s and 22.3 m/s, against the unreefed free opening's
 /// 11.6 kN: the largest pull 9 % lower, and carried by the reefed stage,
 /// which on this grid already pulls hard while the payload is still fast
-/// (26.7 m/s at its peak, 23.7 m/s at the cut). Both peaks are pinned as measured within 15 %,
-/// and the largest under the unreefed one's.
+/// (26.7 m/s at its peak, 23.7 m/s at the cut). Both peaks are pinned
+/// as measured within 15 %, and the largest under the unreefed one's.
 #[test]
 #[ignore = "validation tier, too long for CI: run with --ignored"]
 fn the_reefed_c9_on_a_free_payload_peaks_lower_than_unreefed() {
