@@ -36,6 +36,15 @@ use std::time::{Duration, Instant};
 /// spin on the core the wakee waits for.
 const WOKEN_AWAKE: Duration = Duration::from_millis(1);
 
+/// How often a waiter shows on its flag that it is alive ([`Own::beat`]).
+const BEAT_EVERY: Duration = Duration::from_millis(50);
+/// A waiter whose flag has not beaten for this long (or a third of the
+/// coupling timeout, if shorter) is stopped in its wait, not waiting: its
+/// flag still names whom it waited for, though that one may have answered
+/// long since. A sleeper beats every `BLOCK_SLICE` (10 ms); a second
+/// leaves room for a machine loaded far past its cores.
+const STALE: Duration = Duration::from_secs(1);
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum State {
     Computing,
@@ -55,6 +64,20 @@ pub struct Seen {
     pub waiting_for: Option<usize>,
     /// Cores it holds while awake (its MPI ranks).
     pub ranks: u64,
+    /// When it last showed it is alive, in [`now_ms`].
+    pub beat: u32,
+}
+
+/// Milliseconds on the machine's monotonic clock, which every process on
+/// it shares, modulo 2³² (differences taken wrapping).
+pub fn now_ms() -> u32 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes the timespec it is given.
+    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut t) };
+    (t.tv_sec as u64 * 1000 + t.tv_nsec as u64 / 1_000_000) as u32
 }
 
 /// A wait's expected length as a flag holds it: ⌈log₂⌉ of µs, at most 31.
@@ -75,7 +98,8 @@ impl Seen {
             | (self.short as u64) << 2
             | (self.expected as u64 & 31) << 3
             | (self.ranks & 0xffff) << 8
-            | waiting << 24
+            | (waiting & 0xff) << 24
+            | (self.beat as u64) << 32
     }
 
     fn decode(v: u64) -> Seen {
@@ -87,12 +111,18 @@ impl Seen {
             },
             short: v & 4 != 0,
             expected: ((v >> 3) & 31) as u8,
-            waiting_for: match v >> 24 {
+            waiting_for: match (v >> 24) & 0xff {
                 0 => None,
                 w => Some(w as usize - 1),
             },
             ranks: (v >> 8) & 0xffff,
+            beat: (v >> 32) as u32,
         }
+    }
+
+    /// Whether it waits but has not beaten within `limit` ms of `now`.
+    fn stopped(self, now: u32, limit: u32) -> bool {
+        self.state != State::Computing && now.wrapping_sub(self.beat) > limit
     }
 
     /// Cores it holds now: all its ranks while awake; asleep, rank 0 gives
@@ -114,6 +144,8 @@ impl Seen {
 /// This participant's own flag, as it is created when connecting.
 pub struct Own {
     flag: FlagOut,
+    /// What `flag` holds now.
+    shown: Cell<Seen>,
     /// Its word on its last try at a window (`verdict.rs`), and its worst
     /// unconverged field (`channel::TRY_KEYS`).
     word: FlagOut,
@@ -132,6 +164,7 @@ impl Own {
         let (board, [flag, word, w0, w1, w2]) = channel::own_flag(node, &names::asleep(run, name))?;
         let own = Own {
             flag,
+            shown: Cell::new(Seen::decode(0)),
             word,
             worst: [w0, w1, w2],
             ranks: ranks.max(1) as u64,
@@ -148,8 +181,25 @@ impl Own {
             expected: wait.map_or(0, |w| w.1),
             waiting_for: wait.map(|w| w.2),
             ranks: self.ranks,
+            beat: now_ms(),
         };
+        self.show(seen);
+    }
+
+    fn show(&self, seen: Seen) {
+        self.shown.set(seen);
         self.flag.update_with_copy(seen.encode());
+    }
+
+    /// In a wait: show that this participant is alive, at most every
+    /// [`BEAT_EVERY`], so that a chain of waits ends at one stopped in its
+    /// wait ([`Presence::waits_after`]).
+    pub fn beat(&self) {
+        let shown = self.shown.get();
+        let now = now_ms();
+        if now.wrapping_sub(shown.beat) as u128 >= BEAT_EVERY.as_millis() {
+            self.show(Seen { beat: now, ..shown });
+        }
     }
 
     /// Post this participant's word on its last try at a window, after its
@@ -164,16 +214,21 @@ impl Own {
         self.word.update_with_copy(word);
     }
 
-    /// Leaving the run: holding no core, waiting for no one.
+    /// Leaving the run: holding no core, and waiting for no one, but for
+    /// the one whose value it gave up waiting for, if it did.
     pub fn leave(&self) {
+        let shown = self.shown.get();
         let seen = Seen {
             state: State::Asleep,
             short: false,
             expected: 0,
-            waiting_for: None,
+            waiting_for: shown
+                .waiting_for
+                .filter(|_| shown.state != State::Computing),
             ranks: 0,
+            beat: now_ms(),
         };
-        self.flag.update_with_copy(seen.encode());
+        self.show(seen);
     }
 }
 
@@ -298,14 +353,19 @@ impl Presence {
 
     /// Whom participant `from` waits for, as the flags show it now, and
     /// whom that one waits for, and so on: the chain of waits after
-    /// `from`, ending at one that computes (or hangs), has left, or would
-    /// close a circle. Its last is the one that holds the others up.
-    pub fn waits_after(&self, from: usize) -> Vec<usize> {
+    /// `from`, ending at one that computes (or hangs), has left (but for
+    /// one that gave up its wait: the chain goes on to whom it waited
+    /// for), is stopped in its wait (its flag has not beaten for
+    /// [`STALE`], or a third of `timeout`), or would close a circle. Its
+    /// last is the one that holds the others up.
+    pub fn waits_after(&self, from: usize, timeout: Duration) -> Vec<usize> {
+        let limit = STALE.min(timeout / 3).as_millis() as u32;
+        let now = now_ms();
         let mut chain: Vec<usize> = Vec::new();
         let mut at = from;
         while let Some(next) = self
             .seen(at)
-            .filter(|s| s.state != State::Computing && s.ranks > 0)
+            .filter(|s| s.state != State::Computing && (s.ranks == 0 || !s.stopped(now, limit)))
             .and_then(|s| s.waiting_for)
         {
             if next == from || next == self.me || chain.contains(&next) {
@@ -403,6 +463,7 @@ impl Presence {
             expected,
             waiting_for: Some(writer),
             ranks: self.own.ranks,
+            beat: now_ms(),
         }
     }
 
@@ -418,7 +479,7 @@ impl Presence {
     fn wake_spinners(&self, mine: Seen, pick: impl Fn(Seen) -> bool) -> Result<(), ChannelError> {
         for p in 0..self.peers.len() {
             let Some(s) = self.seen(p) else { continue };
-            if s.state == State::Asleep && pick(s) {
+            if s.state == State::Asleep && s.ranks > 0 && pick(s) {
                 let as_spinner = Seen {
                     state: State::Spinning,
                     ..s
@@ -441,6 +502,7 @@ impl Presence {
             expected: 0,
             waiting_for: None,
             ranks: self.own.ranks,
+            beat: now_ms(),
         };
         self.wake_spinners(mine, |s| s.waiting_for == Some(self.me))
     }
@@ -474,10 +536,10 @@ mod tests {
     #[test]
     fn a_flag_reads_back_as_written() {
         assert_eq!(expected(std::time::Duration::from_micros(300)), 9);
-        for (state, short, expected, waiting_for, ranks) in [
-            (State::Asleep, true, 9, Some(0), 4),
-            (State::Computing, false, 0, None, 1),
-            (State::Spinning, true, 31, Some(7), 1),
+        for (state, short, expected, waiting_for, ranks, beat) in [
+            (State::Asleep, true, 9, Some(0), 4, 0),
+            (State::Computing, false, 0, None, 1, 17),
+            (State::Spinning, true, 31, Some(7), 1, u32::MAX),
         ] {
             let seen = Seen {
                 state,
@@ -485,8 +547,30 @@ mod tests {
                 expected,
                 waiting_for,
                 ranks,
+                beat,
             };
             assert_eq!(Seen::decode(seen.encode()), seen);
         }
+    }
+
+    #[test]
+    fn a_waiter_that_stops_beating_reads_as_stopped_and_one_computing_never() {
+        let waiting = Seen {
+            state: State::Asleep,
+            short: false,
+            expected: 0,
+            waiting_for: Some(1),
+            ranks: 1,
+            beat: u32::MAX - 100,
+        };
+        // 600 ms later across the clock's wrap: stopped past 500 ms only.
+        let now = 499;
+        assert!(waiting.stopped(now, 500));
+        assert!(!waiting.stopped(now, 700));
+        let computing = Seen {
+            state: State::Computing,
+            ..waiting
+        };
+        assert!(!computing.stopped(now, 500));
     }
 }

@@ -98,7 +98,12 @@ impl Waiter {
                 other => break other,
             }
         };
-        self.presence.computing()?;
+        // One that gave up keeps its flag (waiting for `writer`) to the
+        // end: another participant's chain of waits then passes through it
+        // to the one that held both up (`Presence::waits_after`).
+        if !matches!(result, Err(WaitError::Timeout(_))) {
+            self.presence.computing()?;
+        }
         result.map(|v| Waited {
             value: v.expect("a wait ends with a value or an error"),
             slept,
@@ -137,6 +142,7 @@ impl Waiter {
                 Ok(value) => return Ok(Some(value)),
                 Err(waited) => waited,
             };
+            self.presence.own().beat();
             if !go_on(waited) {
                 return Ok(None);
             }
@@ -164,6 +170,7 @@ impl Waiter {
                 Ok(value) => return Ok(Some(value)),
                 Err(waited) => waited,
             };
+            self.presence.own().beat();
             if waited >= LONG_WAIT && !long {
                 long = true;
                 waiting_long();

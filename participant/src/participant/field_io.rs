@@ -112,9 +112,8 @@ impl Participant {
             Err(WaitError::Timeout(seconds)) => {
                 let (field, writer) = (field.to_string(), source.writer.clone());
                 let names = &self.setup.participants;
-                let then = (self.waiter.presence.waits_after(input.writer).into_iter())
-                    .map(|p| names[p].clone())
-                    .collect();
+                let chain = self.waiter.presence.waits_after(input.writer, deadline);
+                let then = chain.into_iter().map(|p| names[p].clone()).collect();
                 let _ = self.control.send(&FromParticipant::Stalled {
                     field: field.clone(),
                     writer: writer.clone(),
