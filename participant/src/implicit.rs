@@ -83,7 +83,7 @@ impl Tries {
             .filter_map(|m| outputs.find(&m.field).map(|i| (i, m.clone())))
             .collect();
         Tries {
-            accelerator: Accelerator::new(settings.acceleration),
+            accelerator: Accelerator::new(settings.acceleration, settings.complement),
             settings,
             accelerated,
             held: Vec::new(),
@@ -170,7 +170,7 @@ impl Tries {
 
     /// A restarted run: the acceleration state as a run checkpoint kept it.
     pub fn resume(&mut self, accelerator: Accelerator) {
-        self.accelerator = accelerator;
+        self.accelerator = accelerator.resumed_with(&self.accelerator);
     }
 
     /// Send the held values and leave the acceleration state as it is: a

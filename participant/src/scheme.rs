@@ -58,6 +58,14 @@ pub struct Implicit {
     /// as one vector (`joint.rs`).
     #[serde(default)]
     pub parallel: bool,
+    /// IQN-ILS: ω on the part of a residual its columns do not explain
+    /// ([`crate::iqn_ils::Columns::step_from`]); 1 takes it whole.
+    #[serde(default = "whole")]
+    pub complement: f64,
+}
+
+fn whole() -> f64 {
+    1.0
 }
 
 impl Implicit {

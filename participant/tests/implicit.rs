@@ -119,6 +119,7 @@ fn implicit(acceleration: Acceleration, max_iterations: u32) -> Scheme {
         max_iterations,
         go_on_at_max: false,
         parallel: false,
+        complement: 1.0,
     })
 }
 

@@ -123,6 +123,12 @@ pub struct ImplicitSection {
     /// independent of the newer ones is below this fraction of its norm.
     #[serde(default = "filter")]
     pub filter: f64,
+    /// IQN-ILS: ω on the part of each residual its columns do not explain
+    /// (1: taken whole, as preCICE does). Strong added mass (a light
+    /// fabric in dense air) wants about 1/(1 + μ), μ the air's mass over
+    /// the cloth's in the modes the columns miss.
+    #[serde(default = "complement_relaxation")]
+    pub complement_relaxation: f64,
 }
 
 /// `[[coupling.implicit.field]]`: one accelerated field's own limits.
@@ -172,6 +178,7 @@ impl Default for ImplicitSection {
             reused_windows: DEFAULT_REUSED_WINDOWS,
             max_columns: DEFAULT_MAX_COLUMNS,
             filter: DEFAULT_FILTER,
+            complement_relaxation: 1.0,
         }
     }
 }
@@ -250,6 +257,16 @@ impl ImplicitSection {
                 format!("filter = {} must lie in (0, 1)", self.filter),
             );
         }
+        let w = self.complement_relaxation;
+        if !(w.is_finite() && w > 0.0 && w <= 1.0) {
+            c.problem(
+                &at("complement_relaxation"),
+                format!(
+                    "complement_relaxation = {w} must lie in (0, 1]: 1 takes the unexplained \
+                     residual whole, below 1 damps it"
+                ),
+            );
+        }
         for (i, f) in self.field.iter().enumerate() {
             c.within("coupling", None, |c| {
                 c.within("implicit", None, |c| {
@@ -296,6 +313,9 @@ fn max_columns() -> u32 {
 }
 fn filter() -> f64 {
     DEFAULT_FILTER
+}
+fn complement_relaxation() -> f64 {
+    1.0
 }
 
 #[cfg(test)]

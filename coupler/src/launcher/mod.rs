@@ -253,6 +253,7 @@ pub fn scheme(s: &Scenario) -> Scheme {
         max_iterations: i.max_iterations,
         go_on_at_max: i.on_max == OnMax::GoOn,
         parallel: s.coupling.parallel(),
+        complement: i.complement_relaxation,
     })
 }
 

@@ -286,6 +286,18 @@ const CASES: &[Case] = &[
         line_of: Some("relaxation = 3.0"),
     },
     Case {
+        name: "complement-relaxation-out-of-range",
+        edit: |t| {
+            let with = "impulse_substeps = 4     # impulse exchange every structure sub-step";
+            let implicit =
+                "scheme = \"implicit\"\n\n[coupling.implicit]\ncomplement_relaxation = 1.5";
+            replace(t, with, &format!("{with}\n{implicit}"))
+        },
+        key: Some("coupling.implicit.complement_relaxation"),
+        says: "must lie in (0, 1]",
+        line_of: Some("complement_relaxation = 1.5"),
+    },
+    Case {
         name: "limits-of-a-field-not-accelerated",
         edit: |t| {
             let with = "impulse_substeps = 4     # impulse exchange every structure sub-step";
