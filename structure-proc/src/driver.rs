@@ -7,7 +7,7 @@
 //! participant library.
 
 use crate::checkpoint::Checkpoint;
-use crate::collision::{Contacts, Obstacles, Stats};
+use crate::collision::{Contacts, Layers, Obstacles, Stats};
 use crate::divergence::Watch;
 use crate::forces::Loads;
 use crate::opening;
@@ -22,6 +22,7 @@ use exchange::fields::{
 };
 use nalgebra::Vector3;
 use participant::{Advance, Cadence, Command, Declaration, FieldView, Monitor, Participant};
+use std::time::Instant;
 use structure_section::{Scene, StructureSection};
 
 pub type Error = Box<dyn std::error::Error>;
@@ -217,10 +218,12 @@ pub fn run<S: Stepper>(
         record,
         events: Vec::new(),
         retried: scene.scenario.coupling.scheme.is_implicit(),
+        timing: [0.0; 2],
     };
     let driven = p.reporting(|p| d.drive(p));
     // A run that stops says what its last try did too.
     d.tell_events();
+    d.tell_contact_cost();
     driven?;
     drop(d.pressure.take());
     if let Some(summary) = d.record.summary() {
@@ -258,6 +261,10 @@ struct Driven<S> {
     /// Whether windows are taken again (implicit coupling): else each
     /// stands as it is taken.
     retried: bool,
+    /// Seconds the sub-steps took in the integrator and in the contact
+    /// pass, every try counted: what the contact pass costs, told when
+    /// the run ends.
+    timing: [f64; 2],
 }
 
 /// What structure-proc keeps in a run checkpoint (`[run]
@@ -283,6 +290,8 @@ struct Saved {
     watch: Watch,
     collisions: Option<(u64, Vector3<f64>)>,
     contacts: Option<Stats>,
+    /// The layered contact model's groups.
+    groups: Option<Layers>,
     /// Rows of the summary's record.
     rows: usize,
 }
@@ -345,6 +354,20 @@ impl<S: Stepper> Driven<S> {
         }
     }
 
+    /// Writes to the log what the contact pass cost against the
+    /// sub-steps' own work, if there is one (issue 46 asks at most 5×
+    /// over a packed opening).
+    fn tell_contact_cost(&self) {
+        let [steps, contact] = self.timing;
+        if self.contacts.is_some() && steps > 0.0 {
+            eprintln!(
+                "the contact pass took {contact:.2} s, {:.2} times the sub-steps' own {steps:.2} s ({} sub-steps)",
+                contact / steps,
+                self.substeps
+            );
+        }
+    }
+
     /// Writes the events of the window that stood to the log.
     fn tell_events(&mut self) {
         for event in self.events.drain(..) {
@@ -358,6 +381,7 @@ impl<S: Stepper> Driven<S> {
             watch: self.watch.clone(),
             collisions: None,
             contacts: None,
+            groups: None,
             rows: 0,
         });
         self.m.save(&mut saved.checkpoint);
@@ -365,6 +389,7 @@ impl<S: Stepper> Driven<S> {
         saved.watch.clone_from(&self.watch);
         saved.collisions = self.obstacles.as_ref().map(|o| (o.impulses, o.received));
         saved.contacts = self.contacts.as_ref().map(|c| c.stats);
+        saved.groups = self.contacts.as_ref().and_then(Contacts::groups);
         saved.rows = self.record.rows.len();
         self.window_start.first = true;
     }
@@ -380,6 +405,9 @@ impl<S: Stepper> Driven<S> {
         }
         if let (Some(c), Some(stats)) = (&mut self.contacts, saved.contacts) {
             c.stats = stats;
+            if let Some(groups) = &saved.groups {
+                c.restore_groups(groups);
+            }
             // A line broken since the checkpoint is whole again.
             c.sync(&self.m.net);
         }
@@ -414,6 +442,7 @@ impl<S: Stepper> Driven<S> {
             watch: state.watch,
             collisions: state.collisions.map(|(n, p)| (n, p.into())),
             contacts: state.contacts,
+            groups: None,
             rows: state.record.rows.len(),
         });
         self.record = state.record;
@@ -516,10 +545,16 @@ impl<S: Stepper> Driven<S> {
             if let Some(o) = &mut self.obstacles {
                 o.begin_step(&m.x);
             }
+            let started = Instant::now();
             if let Some(c) = &mut self.contacts {
                 c.begin_step(&m.x);
             }
-            if let Err(e) = self.stepper.step(m, &loads, h) {
+            let stepping = Instant::now();
+            let stepped = self.stepper.step(m, &loads, h);
+            let stepped_at = Instant::now();
+            self.timing[0] += (stepped_at - stepping).as_secs_f64();
+            self.timing[1] += (stepping - started).as_secs_f64();
+            if let Err(e) = stepped {
                 let t = step.time + k as f64 * h;
                 return Some(format!(
                     "{} failed at t = {t:.6e} s: {e}",
@@ -531,7 +566,9 @@ impl<S: Stepper> Driven<S> {
                 if let Some(o) = &self.obstacles {
                     c.move_bodies(&o.bodies, h);
                 }
-                if let Err(e) = c.resolve(&mut m.x, &mut m.v, &m.net.mass, &m.net.inv_mass, h) {
+                let resolved = c.resolve(&mut m.x, &mut m.v, &m.net.mass, &m.net.inv_mass, h);
+                self.timing[1] += stepped_at.elapsed().as_secs_f64();
+                if let Err(e) = resolved {
                     return Some(format!("the collision pass failed at t = {t:.6e} s: {e}"));
                 }
                 if let Some(o) = &mut self.obstacles {

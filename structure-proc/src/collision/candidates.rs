@@ -42,7 +42,7 @@ pub const LOOKAHEAD_LAYERS: f64 = 2.0;
 /// step beyond its nodes' motion: more than the round-off of a distance
 /// between features hundreds of metres from the origin (10⁻¹³ m) for a
 /// layer of a millimetre.
-const ROUNDING: f64 = 1e-9;
+pub(super) const ROUNDING: f64 = 1e-9;
 
 /// The held pairs are measured in this many chunks, each on one thread
 /// (rayon's pool shares them out).
@@ -65,7 +65,7 @@ pub(super) struct Pair {
 impl Pair {
     /// The pair `st` at `distance` (the nodes are numbered below 2³², as
     /// [`Contacts::with_bodies`] checks).
-    fn new(st: &Stencil, distance: f64) -> Pair {
+    pub(super) fn new(st: &Stencil, distance: f64) -> Pair {
         Pair {
             nodes: st.nodes.map(|n| n as u32),
             kind: st.kind,
@@ -73,15 +73,17 @@ impl Pair {
         }
     }
 
+    #[inline]
     pub fn stencil(&self) -> Stencil {
+        let [a, b, c, d] = self.nodes;
         Stencil {
             kind: self.kind,
-            nodes: self.nodes.map(|n| n as usize),
+            nodes: [a as usize, b as usize, c as usize, d as usize],
         }
     }
 
     /// The order of the stencils' (kind, then node numbers).
-    fn key(&self) -> (Kind, [u32; 4]) {
+    pub(super) fn key(&self) -> (Kind, [u32; 4]) {
         (self.kind, self.nodes)
     }
 }
@@ -378,21 +380,10 @@ fn merged(a: Vec<Pair>, b: Vec<Pair>) -> Vec<Pair> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::collision::IMPACT_FRACTION;
+    use crate::collision::{noise, IMPACT_FRACTION};
     use crate::network::Network;
     use std::collections::HashSet;
     use structure_section::Collision;
-
-    /// A fixed pseudo-random sequence in [−1, 1).
-    fn noise(seed: u64) -> impl FnMut() -> f64 {
-        let mut s = seed;
-        move || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
-    }
 
     /// Whether the narrow phase must see the pair in the step moving by
     /// `dx`: it is closer than the layer at the start or at the end, or

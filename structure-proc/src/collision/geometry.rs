@@ -47,17 +47,23 @@ impl Closest {
 
 impl Stencil {
     /// The four nodes' positions in `x` (xyz per node), moved by `s`·`dx`.
+    #[inline]
     pub fn at(&self, x: &[f64], dx: &[f64], s: f64) -> [V3; 4] {
-        self.nodes.map(|n| {
+        // Written out: `nodes.map` was not inlined, and this runs for
+        // every pair measured.
+        let p = |n: usize| {
             V3::new(
                 x[3 * n] + s * dx[3 * n],
                 x[3 * n + 1] + s * dx[3 * n + 1],
                 x[3 * n + 2] + s * dx[3 * n + 2],
             )
-        })
+        };
+        let [a, b, c, d] = self.nodes;
+        [p(a), p(b), p(c), p(d)]
     }
 
     /// The pair's nearest points with the nodes at `p`.
+    #[inline]
     pub fn closest(&self, p: &[V3; 4]) -> Closest {
         let w = match self.kind {
             Kind::PointTriangle => point_triangle_weights(p),

@@ -35,7 +35,9 @@ mod culled;
 pub mod geometry;
 mod impulse;
 pub mod intersections;
+mod layered;
 mod nearest;
+mod patches;
 pub mod surface;
 mod sweep;
 mod tree;
@@ -44,6 +46,7 @@ mod zones;
 pub use bodies::Obstacles;
 pub use geometry::{Kind, Stencil};
 pub use intersections::{intersections, triangles_through, Intersections};
+pub use layered::Layers;
 pub use surface::Surface;
 
 use crate::network::Network;
@@ -51,7 +54,9 @@ use bodies::BodySurfaces;
 use candidates::Candidates;
 use geometry::V3;
 use impulse::Repulsion;
+use patches::Patches;
 use rayon::prelude::*;
+use structure_section::collision::ContactModel;
 use structure_section::Collision;
 use tree::Tree;
 use zones::Zones;
@@ -169,6 +174,9 @@ pub struct Contacts {
     held: Option<Candidates>,
     /// Nodes from here on are the strings'.
     canopy_nodes: usize,
+    /// The layered model's patches and groups (`layered.rs`); None in
+    /// the pairwise model.
+    layers: Option<Layers>,
     pub stats: Stats,
 }
 
@@ -218,7 +226,9 @@ impl Contacts {
         // (Bridson et al. 2002 use the cloth's stretch stiffness).
         let mean =
             net.couplings.iter().map(|c| c.2).sum::<f64>() / net.couplings.len().max(1) as f64;
+        let layered = spec.model == ContactModel::Layered;
         Ok(Some(Contacts {
+            layers: layered.then(|| Layers::new(Patches::new(&surface, points))),
             strings: surface.len() - surface.triangles,
             surface,
             tree: Tree::default(),
@@ -253,6 +263,10 @@ impl Contacts {
             self.strings = self.surface.len() - self.surface.triangles;
             self.tree = Tree::default();
             self.held = None;
+            if self.layers.is_some() {
+                let points = self.nodes + self.bodies.points.len() / 3;
+                self.layers = Some(Layers::new(Patches::new(&self.surface, points)));
+            }
         }
     }
 
@@ -288,17 +302,28 @@ impl Contacts {
         let (mass, inv_mass) = (&mass[..], &inv_mass[..]);
         let mut dx = proposed.clone();
         let structure_nodes = self.nodes;
-        let mut candidates = self.step_candidates(&dx);
+        // The pairwise model's candidates; None in the layered model, whose
+        // groups are its own (`self.layers`).
+        let mut candidates = if self.layers.is_some() {
+            self.layered_begin(&dx);
+            None
+        } else {
+            Some(self.step_candidates(&dx))
+        };
         // What the repulsion moves the positions only ([`Repulsion::act`]):
         // part of the motion from here on, never of the velocity.
         let mut push = vec![0.0; dx.len()];
-        if self.proximity(&mut candidates, inv_mass, &mut dx, &mut push) {
+        let pushed = match &mut candidates {
+            Some(c) => self.proximity(c, inv_mass, &mut dx, &mut push),
+            None => self.layered_proximity(inv_mass, &mut dx, &mut push),
+        };
+        if pushed {
             for (a, p) in dx.iter_mut().zip(&push) {
                 *a += p;
             }
-            candidates = self.current(candidates, &dx);
+            candidates = self.brought_current(candidates, &dx);
         }
-        let mut hits = self.detect(&candidates, &dx);
+        let mut hits = self.touching(&candidates, &dx);
         for pass in 1..=PASSES {
             if hits.is_empty() {
                 break;
@@ -313,8 +338,8 @@ impl Contacts {
                         .count(&h.stencil, self.canopy_nodes, structure_nodes);
                 }
             }
-            candidates = self.current(candidates, &dx);
-            hits = self.detect(&candidates, &dx);
+            candidates = self.brought_current(candidates, &dx);
+            hits = self.touching(&candidates, &dx);
             if pass == PASSES && !hits.is_empty() {
                 let motion = (&mut dx[..], &mut push[..]);
                 candidates = self.impact_zones(hits, candidates, mass, inv_mass, motion)?;
@@ -336,14 +361,53 @@ impl Contacts {
             }
         }
         self.carry();
-        self.held = Some(candidates);
+        self.held = candidates;
         Ok(())
+    }
+
+    /// The pairwise model's candidates brought up to date for the motion
+    /// `dx`, or the layered model's groups (None).
+    fn brought_current(&mut self, c: Option<Candidates>, dx: &[f64]) -> Option<Candidates> {
+        match c {
+            Some(c) => Some(self.current(c, dx)),
+            None => {
+                self.layered_follow(dx);
+                None
+            }
+        }
+    }
+
+    /// The pairs that touch during the step along `dx`, by the model's
+    /// own search.
+    fn touching(&mut self, c: &Option<Candidates>, dx: &[f64]) -> Vec<Hit> {
+        match c {
+            Some(c) => self.detect(c, dx),
+            None => self.layered_detect(dx),
+        }
+    }
+
+    /// The layered model's groups as they stand (None in the pairwise
+    /// model), for a window's start: a try taken again starts from them,
+    /// not from where the last try left them, so it forms no group the
+    /// window's start did not need.
+    pub fn groups(&self) -> Option<Layers> {
+        self.layers.clone()
+    }
+
+    /// Take the layered model's groups `kept` by [`Contacts::groups`].
+    pub fn restore_groups(&mut self, kept: &Layers) {
+        if let Some(l) = &mut self.layers {
+            l.clone_from(kept);
+        }
     }
 
     /// Drop the candidates held from earlier steps: the next step finds
     /// them anew (what the first step of a run pays; for benchmarks).
     pub fn forget_candidates(&mut self) {
         self.held = None;
+        if let Some(l) = &mut self.layers {
+            l.forget();
+        }
     }
 
     /// How far the boxes reach beyond the features [m]: half the layer,
@@ -365,22 +429,37 @@ impl Contacts {
         let mut acted = false;
         self.measure(candidates, dx);
         for (st, c) in Contacts::within(candidates) {
-            // A body pushes along its true normal, not its facet's.
-            let c = &match self.body_normal(st, &c.w, dx, 0.0) {
-                Some(n) => geometry::Closest {
-                    w: c.w,
-                    separation: n * c.distance(),
-                },
-                None => *c,
-            };
-            if let Some(jdt) = self.repulsion.act(st, c, inv_mass, dx, push) {
-                self.credit(st, &c.w, jdt);
-                self.stats.proximity += 1;
-                self.stats.count(st, self.canopy_nodes, self.nodes);
-                acted = true;
-            }
+            acted |= self.repel(st, c, inv_mass, dx, push);
         }
         acted
+    }
+
+    /// The proximity impulse on the pair `st` within the layer at x^n,
+    /// `c` its nearest points there ([`Repulsion::act`]), credited to the
+    /// bodies and counted; true if it acted.
+    fn repel(
+        &mut self,
+        st: &Stencil,
+        c: &geometry::Closest,
+        inv_mass: &[f64],
+        dx: &mut [f64],
+        push: &mut [f64],
+    ) -> bool {
+        // A body pushes along its true normal, not its facet's.
+        let c = &match self.body_normal(st, &c.w, dx, 0.0) {
+            Some(n) => geometry::Closest {
+                w: c.w,
+                separation: n * c.distance(),
+            },
+            None => *c,
+        };
+        let Some(jdt) = self.repulsion.act(st, c, inv_mass, dx, push) else {
+            return false;
+        };
+        self.credit(st, &c.w, jdt);
+        self.stats.proximity += 1;
+        self.stats.count(st, self.canopy_nodes, self.nodes);
+        true
     }
 
     /// The pairs that touch during the step from x^n along `dx`, with the
@@ -389,45 +468,53 @@ impl Contacts {
     /// for it) exceeds what its nodes move relative to each other by more
     /// than the tolerance cannot touch: its cubic is not solved.
     fn detect(&self, candidates: &Candidates, dx: &[f64]) -> Vec<Hit> {
-        let x = &self.start;
         let eta = IMPACT_FRACTION * self.repulsion.thickness;
         filter_map(&candidates.pairs, |p| {
-            let st = &p.stencil();
-            if p.distance - st.approach(dx) > eta {
-                return None;
-            }
-            let s = st.impact(x, dx, eta)?;
-            let at = st.at(x, dx, s);
-            let touch = st.closest(&at);
-            let start = st.at(x, dx, 0.0);
-            let before: V3 = (0..4).map(|i| start[i] * touch.w[i]).sum();
-            let rel = impulse::relative(st, &touch.w, dx);
-            if let Some(normal) = self.body_normal(st, &touch.w, dx, s) {
-                // A body stops the feature along its true normal.
-                return Some(Hit {
-                    stencil: *st,
-                    w: touch.w,
-                    normal,
-                });
-            }
-            let normal = st
-                .plane_normal(&at)
-                .try_normalize(1e-300)
-                .or_else(|| touch.separation.try_normalize(1e-300))
-                .or_else(|| (-rel).try_normalize(1e-300))?;
-            // The side the first feature stood on at the start; if the
-            // start says nothing, the side the motion leaves.
-            let side = normal.dot(&before);
-            let sign = if side != 0.0 {
-                side.signum()
-            } else {
-                -normal.dot(&rel).signum()
-            };
-            Some(Hit {
+            self.hit(&p.stencil(), p.distance, dx, eta)
+        })
+    }
+
+    /// The pair `st`, at least `bound` apart at x^n, if it touches (comes
+    /// within `eta`) during the step along `dx`, with the normal that
+    /// points from its second feature to its first as they stood at the
+    /// start; None, without the cubic, if its bound exceeds what its nodes
+    /// move relative to each other by more than `eta`.
+    fn hit(&self, st: &Stencil, bound: f64, dx: &[f64], eta: f64) -> Option<Hit> {
+        let x = &self.start;
+        if bound - st.approach(dx) > eta {
+            return None;
+        }
+        let s = st.impact(x, dx, eta)?;
+        let at = st.at(x, dx, s);
+        let touch = st.closest(&at);
+        let start = st.at(x, dx, 0.0);
+        let before: V3 = (0..4).map(|i| start[i] * touch.w[i]).sum();
+        let rel = impulse::relative(st, &touch.w, dx);
+        if let Some(normal) = self.body_normal(st, &touch.w, dx, s) {
+            // A body stops the feature along its true normal.
+            return Some(Hit {
                 stencil: *st,
                 w: touch.w,
-                normal: normal * sign,
-            })
+                normal,
+            });
+        }
+        let normal = st
+            .plane_normal(&at)
+            .try_normalize(1e-300)
+            .or_else(|| touch.separation.try_normalize(1e-300))
+            .or_else(|| (-rel).try_normalize(1e-300))?;
+        // The side the first feature stood on at the start; if the
+        // start says nothing, the side the motion leaves.
+        let side = normal.dot(&before);
+        let sign = if side != 0.0 {
+            side.signum()
+        } else {
+            -normal.dot(&rel).signum()
+        };
+        Some(Hit {
+            stencil: *st,
+            w: touch.w,
+            normal: normal * sign,
         })
     }
 
@@ -438,11 +525,11 @@ impl Contacts {
     fn impact_zones(
         &mut self,
         mut hits: Vec<Hit>,
-        mut candidates: Candidates,
+        mut candidates: Option<Candidates>,
         mass: &[f64],
         inv_mass: &[f64],
         motion: (&mut [f64], &mut [f64]),
-    ) -> Result<Candidates, String> {
+    ) -> Result<Option<Candidates>, String> {
         let (dx, push) = motion;
         self.stats.zone_steps += 1;
         let mut zones = Zones::new(inv_mass.len());
@@ -481,8 +568,8 @@ impl Contacts {
                     self.momenta[k].1 -= ang1 - ang;
                 }
             }
-            candidates = self.current(candidates, dx);
-            hits = self.detect(&candidates, dx);
+            candidates = self.brought_current(candidates, dx);
+            hits = self.touching(&candidates, dx);
             if hits.is_empty() {
                 return Ok(candidates);
             }
@@ -502,5 +589,17 @@ fn padded(a: &[f64], len: usize) -> std::borrow::Cow<'_, [f64]> {
         let mut v = a.to_vec();
         v.resize(len, 0.0);
         v.into()
+    }
+}
+
+/// A fixed pseudo-random sequence in [−1, 1), for the tests' motions.
+#[cfg(test)]
+fn noise(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed;
+    move || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 52) as f64 - 1.0
     }
 }

@@ -218,6 +218,13 @@ pub const CASES: &[Case] = &[
         line_of: Some("friction = -0.3"),
     },
     Case {
+        name: "collision-model-unknown",
+        edit: |t| format!("{t}\n[structure.collision]\nmodel = \"simultaneous\"\n"),
+        key: Some("structure.collision.model"),
+        says: "pairwise",
+        line_of: Some("model = \"simultaneous\""),
+    },
+    Case {
         name: "collision-thickness-negative",
         edit: |t| format!("{t}\n[structure.collision]\nthickness = -1e-3\n"),
         key: Some("structure.collision.thickness"),
