@@ -25,10 +25,15 @@
 //!    acts on the point–triangle pairs within the layer whose triangle owns
 //!    the nearest point (its face, or the edge or node the nearest point
 //!    lies on, by the surface's ownership: the lowest-numbered triangle
-//!    that has it), so each point meets each layer once; edge–edge pairs
-//!    are pushed only where a string takes part. An edge of fabric meeting
-//!    another edge of fabric with no point near the other's face is left
-//!    to the continuous test, which stops it.
+//!    that has it), so each point meets each layer once. Edge–edge pairs
+//!    of fabric are pushed only within the layer's inner half and where
+//!    their nearest points lie inside both edges (two edges crossing); at
+//!    an edge's end the point–triangle pair has the contact. Pairs with a
+//!    string's edge are pushed as in the pairwise model. The push grows
+//!    from nothing at the layer's edge to the pairwise model's whole
+//!    impulse at its inner half (`Repulsion::ramped`), so that a pair
+//!    crossing the edge between two tries of an implicit window changes
+//!    the step's outcome by little.
 //! 3. **The same guarantee.** The continuous test and the impact zones are
 //!    the pairwise pass's, over the pairs of the groups whose bound lets
 //!    their motion reach within the tolerance: no step ends crossed.
@@ -41,7 +46,7 @@
 
 use super::candidates::{Pair, ROUNDING};
 use super::geometry::{Closest, Kind, Stencil};
-use super::impulse::PUSH_WITHIN;
+use super::impulse::{Repulsion, PUSH_WITHIN};
 use super::patches::{approach, Patches};
 use super::sweep::{overlap, Aabb};
 use super::{Contacts, Hit, IMPACT_FRACTION, PARALLEL_ITEMS};
@@ -56,6 +61,12 @@ pub const SLACK: f64 = 1.0;
 /// layer and this many layers apart.
 pub const PART: f64 = 4.0;
 
+/// The groups are brought up to date for a step's motion with room for
+/// each node's motion to change by this many layers more (the pushes and
+/// impulses of the step), so that they are looked at again only when it
+/// changes by more.
+pub const CHANGE: f64 = 0.25;
+
 /// The layered model's state between steps: the patches and the groups.
 #[derive(Debug, Clone)]
 pub struct Layers {
@@ -65,6 +76,8 @@ pub struct Layers {
     /// The positions the groups' bounds are lowered to: the start of the
     /// last step.
     at: Vec<f64>,
+    /// The motion the groups were last brought up to date for.
+    followed: Vec<f64>,
 }
 
 /// Two patches (`a` ≤ `b`) near each other and the pairs their primitives
@@ -105,6 +118,7 @@ impl Layers {
             patches,
             groups: Vec::new(),
             at: Vec::new(),
+            followed: Vec::new(),
         }
     }
 
@@ -112,6 +126,7 @@ impl Layers {
     pub fn forget(&mut self) {
         self.groups.clear();
         self.at.clear();
+        self.followed.clear();
     }
 }
 
@@ -141,6 +156,25 @@ impl Contacts {
         self.layered_follow(dx);
     }
 
+    /// Bring the groups up to date for the step's motion changed to `dx`,
+    /// if it changed by more than the room they were brought up to date
+    /// with ([`CHANGE`]).
+    pub(super) fn layered_refollow(&mut self, dx: &[f64]) {
+        let followed = &self.layers.as_ref().expect("the layered model").followed;
+        let room = CHANGE * self.repulsion.thickness;
+        let changed = |(a, b): (&[f64], &[f64])| {
+            (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2) > room * room
+        };
+        let moved = dx.len() != followed.len()
+            || dx
+                .chunks_exact(3)
+                .zip(followed.chunks_exact(3))
+                .any(changed);
+        if moved {
+            self.layered_follow(dx);
+        }
+    }
+
     /// Bring the groups up to date for the step moving by `dx`: two
     /// patches whose boxes over the step come within the layer and the
     /// slack form a group; a group whose bound on the pairs it does not
@@ -156,20 +190,23 @@ impl Contacts {
             .map(|(s, e)| union(&s, &e))
             .collect();
         let motion = layers.patches.boxes(dx);
-        let near = touching_pairs(&swept, 0.5 * (1.0 + SLACK) * layer);
+        // Room for each node's motion to change by CHANGE layers.
+        let room = CHANGE * layer;
+        let near = touching_pairs(&swept, 0.5 * (1.0 + SLACK) * layer + room);
         let apart = |a: u32, b: u32| {
             let grow = |bx: &Aabb| grown(bx, 0.5 * (1.0 + PART) * layer);
             !overlap(&grow(&swept[a as usize]), &grow(&swept[b as usize]))
         };
         let worn = |g: &Group| {
-            let moving = approach(&motion[g.a as usize], &motion[g.b as usize]);
+            let moving = approach(&motion[g.a as usize], &motion[g.b as usize]) + 2.0 * room;
             g.cutoff - g.eroded - moving < layer
         };
         // The groups kept as they are, and the patch pairs to form.
         let mut kept: Vec<Group> = Vec::with_capacity(layers.groups.len());
         let mut form: Vec<(u32, u32, f64)> = Vec::new();
         let cutoff = |a: u32, b: u32| {
-            (1.0 + 2.0 * SLACK) * layer + approach(&motion[a as usize], &motion[b as usize])
+            let moving = approach(&motion[a as usize], &motion[b as usize]) + 2.0 * room;
+            (1.0 + 2.0 * SLACK) * layer + moving
         };
         let mut old = std::mem::take(&mut layers.groups).into_iter().peekable();
         let mut new = near.into_iter().peekable();
@@ -198,9 +235,12 @@ impl Contacts {
                 .map(|&(a, b, c)| self.formed(&layers.patches, a, b, c))
                 .collect()
         };
-        kept.extend(formed);
-        kept.sort_unstable_by_key(Group::key);
+        if !formed.is_empty() {
+            kept.extend(formed);
+            kept.sort_unstable_by_key(Group::key);
+        }
         layers.groups = kept;
+        layers.followed = dx.to_vec();
         self.layers = Some(layers);
     }
 
@@ -273,6 +313,17 @@ impl Contacts {
     fn pushed(&self, st: &Stencil) -> bool {
         let string = |n: &usize| (self.canopy_nodes..self.nodes).contains(n);
         st.kind == Kind::PointTriangle || st.nodes.iter().any(string)
+    }
+
+    /// The repulsion the pair `st` takes: the scene's, but for the
+    /// fabric's edge–edge pairs in the layered model, whose layer is the
+    /// inner half of the scene's ([`Contacts::layered_near`]).
+    pub(super) fn repulsion_of(&self, st: &Stencil) -> Repulsion {
+        let mut r = self.repulsion;
+        if self.layers.is_some() && !self.pushed(st) {
+            r.thickness *= PUSH_WITHIN;
+        }
+        r
     }
 
     /// Whether the point–triangle pair `st`, its nearest points `w`, is

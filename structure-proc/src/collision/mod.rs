@@ -237,6 +237,7 @@ impl Contacts {
                 stiffness: spec.repulsion_stiffness.unwrap_or(mean),
                 friction: spec.friction,
                 dt: 0.0,
+                ramped: layered,
             },
             start: Vec::new(),
             carried_dx: vec![0.0; bodies.points.len()],
@@ -371,7 +372,7 @@ impl Contacts {
         match c {
             Some(c) => Some(self.current(c, dx)),
             None => {
-                self.layered_follow(dx);
+                self.layered_refollow(dx);
                 None
             }
         }
@@ -453,7 +454,7 @@ impl Contacts {
             },
             None => *c,
         };
-        let Some(jdt) = self.repulsion.act(st, c, inv_mass, dx, push) else {
+        let Some(jdt) = self.repulsion_of(st).act(st, c, inv_mass, dx, push) else {
             return false;
         };
         self.credit(st, &c.w, jdt);
