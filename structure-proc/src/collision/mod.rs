@@ -33,6 +33,7 @@ mod candidates;
 mod carried;
 mod culled;
 pub mod geometry;
+mod groups;
 mod impulse;
 pub mod intersections;
 mod layered;
@@ -384,21 +385,6 @@ impl Contacts {
         match c {
             Some(c) => self.detect(c, dx),
             None => self.layered_detect(dx),
-        }
-    }
-
-    /// The layered model's groups as they stand (None in the pairwise
-    /// model), for a window's start: a try taken again starts from them,
-    /// not from where the last try left them, so it forms no group the
-    /// window's start did not need.
-    pub fn groups(&self) -> Option<Layers> {
-        self.layers.clone()
-    }
-
-    /// Take the layered model's groups `kept` by [`Contacts::groups`].
-    pub fn restore_groups(&mut self, kept: &Layers) {
-        if let Some(l) = &mut self.layers {
-            l.clone_from(kept);
         }
     }
 
