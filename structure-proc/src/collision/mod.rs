@@ -27,6 +27,12 @@
 //! pair at a time in the order of the pairs' kinds and node numbers, so a
 //! run is the same on any number of threads, and a restarted run the same
 //! as one never stopped.
+//!
+//! That is the pairwise model (`[structure.collision] model = "pairwise"`,
+//! the default). The layered model, for fabric pressed in layers, keeps
+//! steps 1, 3, 4 and 5 and finds and pushes the pairs its own way: groups
+//! of mesh patches (`patches.rs`, `groups.rs`) in place of the tree and the
+//! held candidates, and one ramped push a contact (`layered.rs`).
 
 mod bodies;
 mod candidates;
