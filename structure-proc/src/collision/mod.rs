@@ -45,6 +45,7 @@ pub mod intersections;
 mod layered;
 mod nearest;
 mod patches;
+mod quiet;
 pub mod surface;
 mod sweep;
 mod tree;
@@ -184,6 +185,8 @@ pub struct Contacts {
     /// The layered model's patches and groups (`layered.rs`); None in
     /// the pairwise model.
     layers: Option<Layers>,
+    /// The pairwise model's quiet spell: steps it skips (`quiet.rs`).
+    quiet: quiet::Quiet,
     pub stats: Stats,
 }
 
@@ -259,6 +262,7 @@ impl Contacts {
             nodes: net.nodes(),
             held: None,
             canopy_nodes: net.canopy_nodes,
+            quiet: quiet::Quiet::default(),
             stats: Stats::default(),
         }))
     }
@@ -266,10 +270,12 @@ impl Contacts {
     /// Make the surface again if lines broke or a checkpoint mended them
     /// (called after every restore, so it first counts the segments alone).
     pub fn sync(&mut self, net: &Network) {
+        self.quiet.end();
         if surface::segments(net).count() != self.strings {
             self.surface = Surface::with_fixed(net, &self.bodies.triangles);
             self.strings = self.surface.len() - self.surface.triangles;
             self.tree = Tree::default();
+            self.quiet = quiet::Quiet::default();
             self.held = None;
             if self.layers.is_some() {
                 let points = self.nodes + self.bodies.points.len() / 3;
@@ -304,6 +310,11 @@ impl Contacts {
         let mut proposed: Vec<f64> = x.iter().zip(&self.start).map(|(a, b)| a - b).collect();
         // The bodies' points: no mass, the motion their bodies give them.
         proposed.extend_from_slice(&self.carried_dx);
+        // In a quiet spell nothing can come within the layer (`quiet.rs`).
+        if self.quiet_through(&proposed) {
+            self.carry();
+            return Ok(());
+        }
         // The bodies' points have no mass (copied only if there are any).
         let nodes = self.start.len() / 3;
         let (mass, inv_mass) = (padded(mass, nodes), padded(inv_mass, nodes));
@@ -368,6 +379,7 @@ impl Contacts {
                 }
             }
         }
+        self.maybe_quiet(&dx, &candidates);
         self.carry();
         self.held = candidates;
         Ok(())
@@ -398,6 +410,7 @@ impl Contacts {
     /// them anew (what the first step of a run pays; for benchmarks).
     pub fn forget_candidates(&mut self) {
         self.held = None;
+        self.quiet.end();
         if let Some(l) = &mut self.layers {
             l.forget();
         }

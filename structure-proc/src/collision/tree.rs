@@ -129,18 +129,37 @@ pub struct Tree {
     facing: Vec<Facing>,
     /// The boxes' summed surface area right after the last build.
     built_area: f64,
+    /// Whether every pair is tested, no region skipped as smooth
+    /// ([`Tree::unculled`]).
+    unculled: bool,
 }
 
 impl Tree {
+    /// A tree whose [`Tree::pairs`] skips no region as smooth: every pair
+    /// whose boxes overlap, for a bound on every pair's distance (its
+    /// regions then hold nothing to watch as they turn).
+    pub fn unculled() -> Tree {
+        Tree {
+            unculled: true,
+            ..Tree::default()
+        }
+    }
+
+    pub fn is_unculled(&self) -> bool {
+        self.unculled
+    }
+
     /// Fit the boxes and facings to the step from `x` to `x + dx` (whose
     /// paths are `sweep`), with the boxes grown by `reach` [m]; build the
     /// tree first if it has none yet or it has degraded.
     pub fn refit(&mut self, s: &Surface, x: &[f64], dx: &[f64], sweep: &Sweep, reach: f64) {
         let leaf = |p: usize| {
-            (
-                sweep.feature_box_v3(s.vertices(p), reach),
-                leaf_facing(s, p, x, dx),
-            )
+            // An unculled tree reads no facing.
+            let facing = match self.unculled {
+                true => FACING_NOWHERE,
+                false => leaf_facing(s, p, x, dx),
+            };
+            (sweep.feature_box_v3(s.vertices(p), reach), facing)
         };
         let (boxes, facings): (Vec<(V3, V3)>, Vec<Facing>) = if s.len() < super::PARALLEL_ITEMS {
             (0..s.len()).map(leaf).unzip()
@@ -318,7 +337,7 @@ impl Tree {
 
     /// Whether node n's region cannot meet itself, or is all bodies'.
     fn smooth(&self, n: usize) -> bool {
-        self.inert[n] || (self.connected[n] && self.facing[n] != FACING_NOWHERE)
+        self.inert[n] || (!self.unculled && self.connected[n] && self.facing[n] != FACING_NOWHERE)
     }
 
     fn self_pairs(&self, n: usize) -> Vec<(usize, usize)> {

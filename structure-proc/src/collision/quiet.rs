@@ -1,0 +1,212 @@
+//! Quiet spells of the pairwise model: steps the pass skips because
+//! nothing can come within the layer in them, as on an open canopy whose
+//! gores and lines are centimetres apart.
+//!
+//! When a step ends holding no candidate pair, the pass measures the
+//! *clearance* at the next step's start: a lower bound g on the distance
+//! between the two features of every pair it could test, from a search of
+//! its own tree (`Tree::unculled`: no region skipped as smooth, so none
+//! has to be watched as it turns) with the boxes grown to reach R; every
+//! pair found is measured, every pair not found is farther than R. The
+//! features of a pair are weighted means of their nodes, so over any steps
+//! a pair comes closer by at most twice u, the largest motion of a node
+//! relative to a common translation summed over the steps (each step's
+//! translation its own: no distance sees one). While g − 2u stays at least
+//! the layer, no pair is within the layer at a step's start and none
+//! touches during it: the pass would find nothing, and it is skipped, the
+//! same run to the bit. A step that would spend more than the budget ends
+//! the spell, and the pass searches anew. Whatever moves the nodes between
+//! steps (the node–body pass, a restored checkpoint) spends the budget too.
+//!
+//! On the open C-9 dome of `c9-drop.toml` (a 5 mm layer, nothing within
+//! 5 cm) the pass skips 99 % of its steps.
+
+use super::candidates::{Candidates, ROUNDING};
+use super::sweep::Sweep;
+use super::tree::Tree;
+use super::Contacts;
+
+/// The clearance search reaches as far as this many steps of the motion
+/// of the step it follows, so that a spell lasts about as long where
+/// nothing is within reach.
+const SPELL_STEPS: f64 = 256.0;
+
+/// The clearance search reaches at least this many layers, so that a
+/// structure setting out from rest is not searched step after step.
+const SHORTEST_REACH: f64 = 3.0;
+
+/// A spell shorter than this many steps of the motion it follows is not
+/// worth its search: the next search waits this many steps, twice as many
+/// after each one in a row that fails, up to [`LONGEST_WAIT`] (a fine cloth
+/// whose own triangles are closer than the layer never has a spell).
+const WORTH_STEPS: u32 = 4;
+const LONGEST_WAIT: u32 = 1024;
+
+/// The spell under way, or the wait for the next clearance search.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Quiet {
+    spell: Option<Spell>,
+    /// Steps until the next search, and the wait after a failed one.
+    wait: u32,
+    backoff: u32,
+    /// The clearance search's tree, fitted to the nodes' positions.
+    tree: Tree,
+    /// Steps skipped so far.
+    skipped: u64,
+}
+
+/// A spell: the budget of relative motion u [m] the clearance allows,
+/// how much of it the steps have spent, and where the last step left the
+/// nodes.
+#[derive(Debug, Clone)]
+struct Spell {
+    budget: f64,
+    spent: f64,
+    left: Vec<f64>,
+}
+
+impl Spell {
+    /// Whether the step from `start` moving by `dx` stays within the
+    /// budget, what moved the nodes from where the last step left them
+    /// counted too; if it does, spent, and the nodes left at its end (one
+    /// pass over the nodes, as every step pays it).
+    fn advance(&mut self, start: &[f64], dx: &[f64]) -> bool {
+        if self.left.len() != start.len() {
+            return false;
+        }
+        let mut boxes = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
+        let [mut jump_lo, mut jump_hi] = boxes;
+        // A coordinate that is not a number would slip past min and max.
+        let mut sum = 0.0;
+        for ((l, x), d) in self
+            .left
+            .chunks_exact_mut(3)
+            .zip(start.chunks_exact(3))
+            .zip(dx.chunks_exact(3))
+        {
+            for c in 0..3 {
+                let j = x[c] - l[c];
+                jump_lo[c] = jump_lo[c].min(j);
+                jump_hi[c] = jump_hi[c].max(j);
+                boxes[0][c] = boxes[0][c].min(d[c]);
+                boxes[1][c] = boxes[1][c].max(d[c]);
+                l[c] = x[c] + d[c];
+                sum += l[c];
+            }
+        }
+        self.spent += half_diagonal(jump_lo, jump_hi) + half_diagonal(boxes[0], boxes[1]);
+        sum.is_finite() && self.spent <= self.budget
+    }
+}
+
+impl Quiet {
+    /// End the spell (a restore, a broken line, a benchmark's fresh
+    /// start): the next step searches.
+    pub fn end(&mut self) {
+        self.spell = None;
+        self.wait = 0;
+    }
+}
+
+/// A bound on the largest motion of a node of `dx` relative to a common
+/// translation [m]: half the diagonal of the box that holds every motion,
+/// the farthest any lies from the box's centre.
+fn spread(dx: &[f64]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for d in dx.chunks_exact(3) {
+        for c in 0..3 {
+            lo[c] = lo[c].min(d[c]);
+            hi[c] = hi[c].max(d[c]);
+        }
+    }
+    half_diagonal(lo, hi)
+}
+
+/// Half the diagonal of the box from `lo` to `hi` (0 for no box).
+fn half_diagonal(lo: [f64; 3], hi: [f64; 3]) -> f64 {
+    if lo[0] > hi[0] {
+        return 0.0;
+    }
+    0.5 * (0..3).map(|c| (hi[c] - lo[c]).powi(2)).sum::<f64>().sqrt()
+}
+
+impl Contacts {
+    /// Whether the step moving by `dx` lies within the spell under way (the
+    /// pass then has nothing to do in it); a step that does not ends it.
+    pub(super) fn quiet_through(&mut self, dx: &[f64]) -> bool {
+        let Some(spell) = &mut self.quiet.spell else {
+            return false;
+        };
+        if spell.advance(&self.start, dx) {
+            self.quiet.skipped += 1;
+            return true;
+        }
+        // The held candidates were found before the spell: search anew.
+        self.quiet.spell = None;
+        self.held = None;
+        false
+    }
+
+    /// After a step that moved the nodes by `dx` and ends holding the
+    /// pairwise model's `candidates` (None in the layered model, whose
+    /// groups always hold its neighbouring patches): begin a spell if they
+    /// hold no pair and the clearance at the step's end allows one worth
+    /// its search.
+    pub(super) fn maybe_quiet(&mut self, dx: &[f64], candidates: &Option<Candidates>) {
+        if candidates.as_ref().is_none_or(|c| !c.pairs.is_empty()) {
+            return;
+        }
+        if self.quiet.wait > 0 {
+            self.quiet.wait -= 1;
+            return;
+        }
+        let step = spread(dx).max(ROUNDING * self.repulsion.thickness);
+        let layer = self.repulsion.thickness;
+        let reach = (layer + 2.0 * SPELL_STEPS * step).max(SHORTEST_REACH * layer);
+        let end: Vec<f64> = self.start.iter().zip(dx).map(|(x, d)| x + d).collect();
+        let budget = self.clearance(&end, reach);
+        if budget >= WORTH_STEPS as f64 * step {
+            self.quiet.backoff = WORTH_STEPS;
+            self.quiet.spell = Some(Spell {
+                budget,
+                spent: 0.0,
+                left: end,
+            });
+        } else {
+            let q = &mut self.quiet;
+            q.backoff = (2 * q.backoff).clamp(WORTH_STEPS, LONGEST_WAIT);
+            q.wait = q.backoff;
+        }
+    }
+
+    /// The budget of relative motion u [m] the nodes at `x` may spend
+    /// before a pair may come within the layer, from a search of every
+    /// pair within `reach`.
+    fn clearance(&mut self, x: &[f64], reach: f64) -> f64 {
+        if !self.quiet.tree.is_unculled() {
+            self.quiet.tree = Tree::unculled();
+        }
+        let still = vec![0.0; x.len()];
+        let tree = &mut self.quiet.tree;
+        tree.refit(
+            &self.surface,
+            x,
+            &still,
+            &Sweep::new(x, &still),
+            0.5 * reach,
+        );
+        let mut nearest = reach;
+        for (p, q) in tree.pairs() {
+            self.surface.each_stencil(p, q, |st| {
+                nearest = nearest.min(st.closest(&st.at(x, x, 0.0)).distance());
+            });
+        }
+        let layer = self.repulsion.thickness;
+        (0.5 * (nearest - layer * (1.0 + ROUNDING))).max(0.0)
+    }
+
+    /// How many steps the pass has skipped in quiet spells.
+    pub fn quiet_steps(&self) -> u64 {
+        self.quiet.skipped
+    }
+}
