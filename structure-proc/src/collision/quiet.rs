@@ -24,7 +24,7 @@
 use super::candidates::{Candidates, ROUNDING};
 use super::sweep::Sweep;
 use super::tree::Tree;
-use super::Contacts;
+use super::{Contacts, Stencil};
 
 /// The clearance search reaches as far as this many steps of the motion
 /// of the step it follows, so that a spell lasts about as long where
@@ -74,28 +74,20 @@ impl Spell {
         if self.left.len() != start.len() {
             return false;
         }
-        let mut boxes = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
-        let [mut jump_lo, mut jump_hi] = boxes;
-        // A coordinate that is not a number would slip past min and max.
-        let mut sum = 0.0;
-        for ((l, x), d) in self
-            .left
-            .chunks_exact_mut(3)
-            .zip(start.chunks_exact(3))
-            .zip(dx.chunks_exact(3))
-        {
-            for c in 0..3 {
-                let j = x[c] - l[c];
-                jump_lo[c] = jump_lo[c].min(j);
-                jump_hi[c] = jump_hi[c].max(j);
-                boxes[0][c] = boxes[0][c].min(d[c]);
-                boxes[1][c] = boxes[1][c].max(d[c]);
-                l[c] = x[c] + d[c];
-                sum += l[c];
+        // Nothing moves the nodes between steps, as a rule: then the jump
+        // is nothing, and one comparison of the two lists tells so.
+        let jump = match self.left == start {
+            true => 0.0,
+            false => {
+                let moved: Vec<f64> = start.iter().zip(&self.left).map(|(x, l)| x - l).collect();
+                spread(&moved)
             }
+        };
+        self.spent += jump + spread(dx);
+        for ((l, x), d) in self.left.iter_mut().zip(start).zip(dx) {
+            *l = x + d;
         }
-        self.spent += half_diagonal(jump_lo, jump_hi) + half_diagonal(boxes[0], boxes[1]);
-        sum.is_finite() && self.spent <= self.budget
+        self.spent <= self.budget
     }
 }
 
@@ -113,13 +105,41 @@ impl Quiet {
 /// the farthest any lies from the box's centre.
 fn spread(dx: &[f64]) -> f64 {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    // A coordinate that is not a number fails every comparison: it makes
+    // the box unbounded, and the spell ends.
+    let mut finite = true;
     for d in dx.chunks_exact(3) {
         for c in 0..3 {
-            lo[c] = lo[c].min(d[c]);
-            hi[c] = hi[c].max(d[c]);
+            lo[c] = if d[c] < lo[c] { d[c] } else { lo[c] };
+            hi[c] = if d[c] > hi[c] { d[c] } else { hi[c] };
+            finite &= d[c].is_finite();
         }
     }
-    half_diagonal(lo, hi)
+    match finite {
+        true => half_diagonal(lo, hi),
+        false => f64::INFINITY,
+    }
+}
+
+/// The distance between the boxes of the two features of `st` at `x`: at
+/// most the features' own.
+fn boxes_apart(st: &Stencil, x: &[f64]) -> f64 {
+    let (a, b) = st.features();
+    let bounds = |nodes: &[usize]| {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for &n in nodes {
+            for c in 0..3 {
+                lo[c] = lo[c].min(x[3 * n + c]);
+                hi[c] = hi[c].max(x[3 * n + c]);
+            }
+        }
+        (lo, hi)
+    };
+    let ((alo, ahi), (blo, bhi)) = (bounds(a), bounds(b));
+    (0..3)
+        .map(|c| (alo[c] - bhi[c]).max(blo[c] - ahi[c]).max(0.0).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// Half the diagonal of the box from `lo` to `hi` (0 for no box).
@@ -198,7 +218,11 @@ impl Contacts {
         let mut nearest = reach;
         for (p, q) in tree.pairs() {
             self.surface.each_stencil(p, q, |st| {
-                nearest = nearest.min(st.closest(&st.at(x, x, 0.0)).distance());
+                // The features' boxes apart by no less than the nearest yet
+                // hold nothing nearer (most pairs of neighbouring triangles).
+                if boxes_apart(&st, x) < nearest {
+                    nearest = nearest.min(st.closest(&st.at(x, x, 0.0)).distance());
+                }
             });
         }
         let layer = self.repulsion.thickness;
