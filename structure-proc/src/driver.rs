@@ -359,11 +359,12 @@ impl<S: Stepper> Driven<S> {
     /// over a packed opening).
     fn tell_contact_cost(&self) {
         let [steps, contact] = self.timing;
-        if self.contacts.is_some() && steps > 0.0 {
+        if let (Some(c), true) = (&self.contacts, steps > 0.0) {
             eprintln!(
-                "the contact pass took {contact:.2} s, {:.2} times the sub-steps' own {steps:.2} s ({} sub-steps)",
+                "the contact pass took {contact:.2} s, {:.2} times the sub-steps' own {steps:.2} s ({} sub-steps, {} of them in quiet spells)",
                 contact / steps,
-                self.substeps
+                self.substeps,
+                c.quiet_steps()
             );
         }
     }
