@@ -12,7 +12,7 @@
 //!    and Coulomb friction (`impulse.rs`); a pair closer than half the
 //!    layer is moved back out to it by its positions only (`push`);
 //! 3. **collisions** from x^n along dx: the first touch of each pair by the
-//!    coplanarity cubic (`geometry.rs`), stopped by an inelastic impulse,
+//!    coplanarity cubic (`hits.rs`, `geometry.rs`), stopped by an inelastic impulse,
 //!    for up to [`PASSES`] passes;
 //! 4. **impact zones** for what is left: colliding nodes merge into zones
 //!    that move rigidly (`zones.rs`), until no collision remains, so no
@@ -40,6 +40,7 @@ mod carried;
 mod culled;
 pub mod geometry;
 mod groups;
+mod hits;
 mod impulse;
 pub mod intersections;
 mod layered;
@@ -61,6 +62,7 @@ use crate::network::Network;
 use bodies::BodySurfaces;
 use candidates::Candidates;
 use geometry::V3;
+use hits::Hit;
 use impulse::Repulsion;
 use patches::Patches;
 use rayon::prelude::*;
@@ -188,13 +190,6 @@ pub struct Contacts {
     /// The pairwise model's quiet spell: steps it skips (`quiet.rs`).
     quiet: quiet::Quiet,
     pub stats: Stats,
-}
-
-/// A pair found touching during the step.
-struct Hit {
-    stencil: Stencil,
-    w: [f64; 4],
-    normal: V3,
 }
 
 impl Contacts {
@@ -397,15 +392,6 @@ impl Contacts {
         }
     }
 
-    /// The pairs that touch during the step along `dx`, by the model's
-    /// own search.
-    fn touching(&mut self, c: &Option<Candidates>, dx: &[f64]) -> Vec<Hit> {
-        match c {
-            Some(c) => self.detect(c, dx),
-            None => self.layered_detect(dx),
-        }
-    }
-
     /// Drop the candidates held from earlier steps: the next step finds
     /// them anew (what the first step of a run pays; for benchmarks).
     pub fn forget_candidates(&mut self) {
@@ -466,62 +452,6 @@ impl Contacts {
         self.stats.proximity += 1;
         self.stats.count(st, self.canopy_nodes, self.nodes);
         true
-    }
-
-    /// The pairs that touch during the step from x^n along `dx`, with the
-    /// normal that points from the second feature to the first as they
-    /// stood at the start. A pair whose start distance (or the bound held
-    /// for it) exceeds what its nodes move relative to each other by more
-    /// than the tolerance cannot touch: its cubic is not solved.
-    fn detect(&self, candidates: &Candidates, dx: &[f64]) -> Vec<Hit> {
-        let eta = IMPACT_FRACTION * self.repulsion.thickness;
-        filter_map(&candidates.pairs, |p| {
-            self.hit(&p.stencil(), p.distance, dx, eta)
-        })
-    }
-
-    /// The pair `st`, at least `bound` apart at x^n, if it touches (comes
-    /// within `eta`) during the step along `dx`, with the normal that
-    /// points from its second feature to its first as they stood at the
-    /// start; None, without the cubic, if its bound exceeds what its nodes
-    /// move relative to each other by more than `eta`.
-    fn hit(&self, st: &Stencil, bound: f64, dx: &[f64], eta: f64) -> Option<Hit> {
-        let x = &self.start;
-        if bound - st.approach(dx) > eta {
-            return None;
-        }
-        let s = st.impact(x, dx, eta)?;
-        let at = st.at(x, dx, s);
-        let touch = st.closest(&at);
-        let start = st.at(x, dx, 0.0);
-        let before: V3 = (0..4).map(|i| start[i] * touch.w[i]).sum();
-        let rel = impulse::relative(st, &touch.w, dx);
-        if let Some(normal) = self.body_normal(st, &touch.w, dx, s) {
-            // A body stops the feature along its true normal.
-            return Some(Hit {
-                stencil: *st,
-                w: touch.w,
-                normal,
-            });
-        }
-        let normal = st
-            .plane_normal(&at)
-            .try_normalize(1e-300)
-            .or_else(|| touch.separation.try_normalize(1e-300))
-            .or_else(|| (-rel).try_normalize(1e-300))?;
-        // The side the first feature stood on at the start; if the
-        // start says nothing, the side the motion leaves.
-        let side = normal.dot(&before);
-        let sign = if side != 0.0 {
-            side.signum()
-        } else {
-            -normal.dot(&rel).signum()
-        };
-        Some(Hit {
-            stencil: *st,
-            w: touch.w,
-            normal: normal * sign,
-        })
     }
 
     /// Merge colliding nodes into rigid zones until no collision is left;
