@@ -360,6 +360,23 @@ impl Contacts {
                 break;
             }
         }
+        self.commit((x, v), (mass, inv_mass), [&dx, &push, &proposed], dt);
+        self.maybe_quiet(&dx, &candidates);
+        self.carry();
+        self.held = candidates;
+        Ok(())
+    }
+
+    /// Step 5: x^{n+1} = x^n + dx and v^{n+1} = v^can + (dx − push −
+    /// dx^can)/Δt on the nodes the pass moved (`proposed` is dx^can); the
+    /// others keep x^can and v^can bit for bit.
+    fn commit(
+        &mut self,
+        (x, v): (&mut [f64], &mut [f64]),
+        (mass, inv_mass): (&[f64], &[f64]),
+        [dx, push, proposed]: [&[f64]; 3],
+        dt: f64,
+    ) {
         for (n, &w) in inv_mass.iter().enumerate().take(x.len() / 3) {
             if w == 0.0 {
                 continue;
@@ -374,10 +391,6 @@ impl Contacts {
                 }
             }
         }
-        self.maybe_quiet(&dx, &candidates);
-        self.carry();
-        self.held = candidates;
-        Ok(())
     }
 
     /// The pairwise model's candidates brought up to date for the motion

@@ -173,3 +173,25 @@ pub fn point(m: &Model, n: usize) -> [f64; 3] {
 pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
+
+/// One structure step of `dt` without loads, then the contact pass if given.
+pub fn step(
+    m: &mut structure_proc::Model,
+    stepper: &mut dyn structure_proc::Integrator,
+    contacts: Option<&mut structure_proc::collision::Contacts>,
+    dt: f64,
+) {
+    let start = m.x.clone();
+    m.step(stepper, &structure_proc::forces::Loads::default(), dt)
+        .unwrap();
+    if let Some(c) = contacts {
+        c.begin_step(&start);
+        let (mass, inv) = (m.net.mass.clone(), m.net.inv_mass.clone());
+        c.resolve(&mut m.x, &mut m.v, &mass, &inv, dt).unwrap();
+    }
+}
+
+/// The structure of a TOML `[structure]` section.
+pub fn section(text: &str) -> structure_section::StructureSection {
+    toml::from_str(text).unwrap()
+}
