@@ -274,25 +274,32 @@ impl ImplicitSection {
                 })
             });
         }
-        let per_impulse = accelerated
-            .iter()
-            .find(|f| fields::PER_IMPULSE.contains(&f.as_str()));
-        if let (false, Some(field)) = (bodies_iterate, per_impulse) {
-            c.problem(
-                &at("accelerate"),
-                format!(
-                    "`{field}` is exchanged at every impulse sub-step, and implicit coupling \
-                     relaxes a field once a window: set [coupling] impulse_substeps = 1, or \
-                     take it out of accelerate"
-                ),
-            );
-        }
-        if accelerated.is_empty() {
-            c.problem(
-                &at("accelerate"),
-                "accelerate lists no field: implicit coupling needs a field to converge".into(),
-            );
-        }
+        check_accelerated(c, &accelerated, bodies_iterate);
+    }
+}
+
+/// `accelerate`: fields implicit coupling can relax once a window, and at
+/// least one.
+fn check_accelerated(c: &mut Checker, accelerated: &[String], bodies_iterate: bool) {
+    let at = ["coupling", "implicit", "accelerate"];
+    let per_impulse = accelerated
+        .iter()
+        .find(|f| fields::PER_IMPULSE.contains(&f.as_str()));
+    if let (false, Some(field)) = (bodies_iterate, per_impulse) {
+        c.problem(
+            &at,
+            format!(
+                "`{field}` is exchanged at every impulse sub-step, and implicit coupling \
+                 relaxes a field once a window: set [coupling] impulse_substeps = 1, or \
+                 take it out of accelerate"
+            ),
+        );
+    }
+    if accelerated.is_empty() {
+        c.problem(
+            &at,
+            "accelerate lists no field: implicit coupling needs a field to converge".into(),
+        );
     }
 }
 
