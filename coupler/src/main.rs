@@ -80,6 +80,23 @@ enum BenchCmd {
         #[arg(long, default_value_t = 3)]
         repeats: usize,
     },
+    /// What the structure's contact pass costs a run of an open canopy:
+    /// the scene with and without `[structure.collision]`, in turn.
+    Contact {
+        /// The scene (default scenarios/c9-drop.toml).
+        #[arg(long, default_value = "scenarios/c9-drop.toml")]
+        scene: PathBuf,
+        /// Simulated end of each run [s] (default: before c9-drop's lines
+        /// and folds first touch, at 2.2 s).
+        #[arg(long, default_value_t = 2.0)]
+        end_time: f64,
+        /// The contact layer's thickness [m].
+        #[arg(long, default_value_t = 5e-3)]
+        layer: f64,
+        /// Runs of each variant, in turn; the medians are compared.
+        #[arg(long, default_value_t = 5)]
+        repeats: usize,
+    },
     /// The C-9 on the original code's grid (60 × 60 × 120 cells, 11 173
     /// canopy vertices): seconds per window, explicit, implicit and
     /// parallel-implicit, split into the solvers, acceleration, checkpoints
@@ -174,6 +191,15 @@ fn main() {
         Cmd::Bench {
             what: BenchCmd::Implicit { scene, repeats },
         } => launcher::bench::implicit(&scene, repeats.max(1)),
+        Cmd::Bench {
+            what:
+                BenchCmd::Contact {
+                    scene,
+                    end_time,
+                    layer,
+                    repeats,
+                },
+        } => launcher::bench::contact(&scene, end_time, layer, repeats.max(1)),
         Cmd::Bench {
             what:
                 BenchCmd::Parachute {

@@ -302,14 +302,14 @@ impl Contacts {
     ) -> Result<(), String> {
         self.repulsion.dt = dt;
         self.momenta.fill((V3::zeros(), V3::zeros()));
-        let mut proposed: Vec<f64> = x.iter().zip(&self.start).map(|(a, b)| a - b).collect();
-        // The bodies' points: no mass, the motion their bodies give them.
-        proposed.extend_from_slice(&self.carried_dx);
         // In a quiet spell nothing can come within the layer (`quiet.rs`).
-        if self.quiet_through(&proposed) {
+        if self.quiet_through(x) {
             self.carry();
             return Ok(());
         }
+        let mut proposed: Vec<f64> = x.iter().zip(&self.start).map(|(a, b)| a - b).collect();
+        // The bodies' points: no mass, the motion their bodies give them.
+        proposed.extend_from_slice(&self.carried_dx);
         // The bodies' points have no mass (copied only if there are any).
         let nodes = self.start.len() / 3;
         let (mass, inv_mass) = (padded(mass, nodes), padded(inv_mass, nodes));

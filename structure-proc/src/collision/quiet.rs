@@ -66,28 +66,81 @@ struct Spell {
 }
 
 impl Spell {
-    /// Whether the step from `start` moving by `dx` stays within the
-    /// budget, what moved the nodes from where the last step left them
-    /// counted too; if it does, spent, and the nodes left at its end (one
-    /// pass over the nodes, as every step pays it).
-    fn advance(&mut self, start: &[f64], dx: &[f64]) -> bool {
-        if self.left.len() != start.len() {
+    /// Whether the step that took the structure's nodes from `start` (the
+    /// bodies' points after them) to `end`, and carries the points by
+    /// `carried`, stays within the budget, what moved the nodes from where
+    /// the last step left them counted too; if it does, spent, and the
+    /// nodes left at its end: one pass over the nodes, which every step of
+    /// a spell pays.
+    fn advance(&mut self, start: &[f64], end: &[f64], carried: &[f64]) -> bool {
+        let n = end.len();
+        if self.left.len() != start.len() || n + carried.len() != start.len() {
             return false;
         }
-        // Nothing moves the nodes between steps, as a rule: then the jump
-        // is nothing, and one comparison of the two lists tells so.
-        let jump = match self.left == start {
-            true => 0.0,
-            false => {
-                let moved: Vec<f64> = start.iter().zip(&self.left).map(|(x, l)| x - l).collect();
-                spread(&moved)
-            }
-        };
-        self.spent += jump + spread(dx);
-        for ((l, x), d) in self.left.iter_mut().zip(start).zip(dx) {
-            *l = x + d;
+        let (mut jump, mut motion) = (Extent::default(), Extent::default());
+        let (left, left_points) = self.left.split_at_mut(n);
+        let (from, points) = start.split_at(n);
+        let triples = from.chunks_exact(3).zip(end.chunks_exact(3));
+        for ((s, e), l) in triples.zip(left.chunks_exact_mut(3)) {
+            jump.hold([s[0] - l[0], s[1] - l[1], s[2] - l[2]]);
+            motion.hold([e[0] - s[0], e[1] - s[1], e[2] - s[2]]);
+            // Where the next step starts, to the bit.
+            l.copy_from_slice(e);
         }
+        let carried_points = points.chunks_exact(3).zip(carried.chunks_exact(3));
+        for ((s, d), l) in carried_points.zip(left_points.chunks_exact_mut(3)) {
+            jump.hold([s[0] - l[0], s[1] - l[1], s[2] - l[2]]);
+            motion.hold([d[0], d[1], d[2]]);
+            (0..3).for_each(|c| l[c] = s[c] + d[c]);
+        }
+        self.spent += jump.reach() + motion.reach();
         self.spent <= self.budget
+    }
+}
+
+/// The box that holds motions (xyz), and whether all were numbers.
+#[derive(Debug, Clone, Copy)]
+struct Extent {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    /// Their sum: not finite if one was not.
+    sum: f64,
+}
+
+impl Default for Extent {
+    fn default() -> Extent {
+        Extent {
+            lo: [f64::INFINITY; 3],
+            hi: [f64::NEG_INFINITY; 3],
+            sum: 0.0,
+        }
+    }
+}
+
+impl Extent {
+    #[inline]
+    fn hold(&mut self, d: [f64; 3]) {
+        for (c, d) in d.into_iter().enumerate() {
+            self.lo[c] = if d < self.lo[c] { d } else { self.lo[c] };
+            self.hi[c] = if d > self.hi[c] { d } else { self.hi[c] };
+            self.sum += d;
+        }
+    }
+
+    /// A bound on the largest motion relative to a common translation:
+    /// half the box's diagonal, the farthest any motion lies from its
+    /// centre (0 for none; unbounded if one was not a number).
+    fn reach(&self) -> f64 {
+        if !self.sum.is_finite() {
+            return f64::INFINITY;
+        }
+        if self.lo[0] > self.hi[0] {
+            return 0.0;
+        }
+        0.5 * (0..3)
+            .map(|c| (self.hi[c] - self.lo[c]).powi(2))
+            .sum::<f64>()
+            .sqrt()
     }
 }
 
@@ -101,24 +154,13 @@ impl Quiet {
 }
 
 /// A bound on the largest motion of a node of `dx` relative to a common
-/// translation [m]: half the diagonal of the box that holds every motion,
-/// the farthest any lies from the box's centre.
+/// translation [m] ([`Extent::reach`]).
 fn spread(dx: &[f64]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    // A coordinate that is not a number fails every comparison: it makes
-    // the box unbounded, and the spell ends.
-    let mut finite = true;
+    let mut e = Extent::default();
     for d in dx.chunks_exact(3) {
-        for c in 0..3 {
-            lo[c] = if d[c] < lo[c] { d[c] } else { lo[c] };
-            hi[c] = if d[c] > hi[c] { d[c] } else { hi[c] };
-            finite &= d[c].is_finite();
-        }
+        e.hold([d[0], d[1], d[2]]);
     }
-    match finite {
-        true => half_diagonal(lo, hi),
-        false => f64::INFINITY,
-    }
+    e.reach()
 }
 
 /// The distance between the boxes of the two features of `st` at `x`: at
@@ -142,22 +184,15 @@ fn boxes_apart(st: &Stencil, x: &[f64]) -> f64 {
         .sqrt()
 }
 
-/// Half the diagonal of the box from `lo` to `hi` (0 for no box).
-fn half_diagonal(lo: [f64; 3], hi: [f64; 3]) -> f64 {
-    if lo[0] > hi[0] {
-        return 0.0;
-    }
-    0.5 * (0..3).map(|c| (hi[c] - lo[c]).powi(2)).sum::<f64>().sqrt()
-}
-
 impl Contacts {
-    /// Whether the step moving by `dx` lies within the spell under way (the
-    /// pass then has nothing to do in it); a step that does not ends it.
-    pub(super) fn quiet_through(&mut self, dx: &[f64]) -> bool {
+    /// Whether the step that took the structure's nodes to `x` lies within
+    /// the spell under way (the pass then has nothing to do in it); a step
+    /// that does not ends it.
+    pub(super) fn quiet_through(&mut self, x: &[f64]) -> bool {
         let Some(spell) = &mut self.quiet.spell else {
             return false;
         };
-        if spell.advance(&self.start, dx) {
+        if spell.advance(&self.start, x, &self.carried_dx) {
             self.quiet.skipped += 1;
             return true;
         }

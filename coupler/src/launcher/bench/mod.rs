@@ -23,6 +23,7 @@
 //! take if each cost no more than moving one cache line from core to core
 //! ([`floor`]), measured in the same run.
 
+mod contact;
 mod floor;
 mod frontier;
 mod implicit;
@@ -32,6 +33,7 @@ mod pingpong;
 mod raw;
 mod socket;
 
+pub use contact::contact;
 pub use implicit::implicit;
 pub use library::peer as library_peer;
 pub use parachute::parachute;
@@ -147,6 +149,16 @@ fn print_table(table: &[(&str, Vec<Times>)]) {
 /// Run `scene` with the coupler `exe` into a scratch directory, removed
 /// after; its manifest, or why the run failed.
 pub(super) fn run_manifest(exe: &Path, scene: &Path) -> Result<serde_json::Value, String> {
+    run_reading(exe, scene, None).map(|(m, _)| m)
+}
+
+/// [`run_manifest`], with the text of the run directory's file `file`
+/// (empty if it has none) read before the directory goes.
+pub(super) fn run_reading(
+    exe: &Path,
+    scene: &Path,
+    file: Option<&str>,
+) -> Result<(serde_json::Value, String), String> {
     let dir = std::env::temp_dir().join(format!(
         "canopy-bench-{}",
         participant::supervisor::new_run_id()
@@ -162,9 +174,12 @@ pub(super) fn run_manifest(exe: &Path, scene: &Path) -> Result<serde_json::Value
     let manifest = std::fs::read_to_string(dir.join("manifest.json"))
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
+    let read = file
+        .and_then(|f| std::fs::read_to_string(dir.join(f)).ok())
+        .unwrap_or_default();
     let _ = std::fs::remove_dir_all(&dir);
     match (status.success(), manifest) {
-        (true, Some(m)) => Ok(m),
+        (true, Some(m)) => Ok((m, read)),
         (false, Some(m)) => Err(format!(
             "the run failed: {}",
             m["error"].as_str().unwrap_or("(no reason in its manifest)")
