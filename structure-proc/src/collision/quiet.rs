@@ -43,7 +43,7 @@ const WORTH_STEPS: u32 = 4;
 const LONGEST_WAIT: u32 = 1024;
 
 /// The spell under way, or the wait for the next clearance search.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub(super) struct Quiet {
     spell: Option<Spell>,
     /// Steps until the next search, and the wait after a failed one.
@@ -144,6 +144,18 @@ impl Extent {
     }
 }
 
+impl Default for Quiet {
+    fn default() -> Quiet {
+        Quiet {
+            spell: None,
+            wait: 0,
+            backoff: 0,
+            tree: Tree::unculled(),
+            skipped: 0,
+        }
+    }
+}
+
 impl Quiet {
     /// End the spell (a restore, a broken line, a benchmark's fresh
     /// start): the next step searches.
@@ -238,9 +250,6 @@ impl Contacts {
     /// before a pair may come within the layer, from a search of every
     /// pair within `reach`.
     fn clearance(&mut self, x: &[f64], reach: f64) -> f64 {
-        if !self.quiet.tree.is_unculled() {
-            self.quiet.tree = Tree::unculled();
-        }
         let still = vec![0.0; x.len()];
         let tree = &mut self.quiet.tree;
         tree.refit(

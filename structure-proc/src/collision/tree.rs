@@ -145,10 +145,6 @@ impl Tree {
         }
     }
 
-    pub fn is_unculled(&self) -> bool {
-        self.unculled
-    }
-
     /// Fit the boxes and facings to the step from `x` to `x + dx` (whose
     /// paths are `sweep`), with the boxes grown by `reach` [m]; build the
     /// tree first if it has none yet or it has degraded.
