@@ -1,12 +1,18 @@
 //! fluid-proc: the flow models taking part in a coupled run.
 
-use fluid_section::Scene;
+use fluid_section::{Device, Scene};
+use scenario::{section, ScenarioError};
+use std::path::Path;
 
 fn main() {
     // `fluid-proc --check SCENARIO`: the [fluid] table, checked.
     // Every model saves and restores window checkpoints (implicit
     // coupling) and writes run checkpoints (restart).
-    scenario::answer_check(|path, text| Scene::load(path, text).map(|s| answer(&s)));
+    scenario::answer_check(|path, text| {
+        let scene = Scene::load(path, text)?;
+        check_device(&scene, path, text)?;
+        Ok(answer(&scene))
+    });
     if let Err(e) = fluid_proc::driver::run() {
         eprintln!("fluid-proc: {e}");
         std::process::exit(1);
@@ -27,4 +33,20 @@ fn answer(scene: &Scene) -> scenario::Answer {
         answer.manifest.insert("cells".into(), cells.into());
     }
     answer
+}
+
+/// `device = "gpu"` needs an adapter that takes the box: where none does,
+/// that is a problem of the key that asks for it.
+fn check_device(scene: &Scene, path: &Path, text: &str) -> Result<(), ScenarioError> {
+    if scene.fluid.device != Device::Gpu {
+        return Ok(());
+    }
+    let Err(why) = fluid_proc::incompressible::device::probe(&scene.fluid) else {
+        return Ok(());
+    };
+    section::checked(path, text, |c| {
+        c.within("fluid", None, |c| {
+            c.problem(&["device"], format!("device = \"gpu\": {why}"))
+        })
+    })
 }

@@ -24,6 +24,10 @@ mod scene;
 
 pub use scene::{Scene, POROSITY_WITHOUT_CANOPY};
 
+fn is_cpu(d: &Device) -> bool {
+    *d == Device::Cpu
+}
+
 /// Which keys of `[fluid]` each model takes, and which of those it needs.
 const MODEL_KEYS: [(FluidModel, &[&str], &[&str]); 3] = [
     (
@@ -51,6 +55,7 @@ const MODEL_KEYS: [(FluidModel, &[&str], &[&str]); 3] = [
             "porosity",
             "diameter",
             "thickness",
+            "device",
         ],
         &["box"],
     ),
@@ -73,6 +78,20 @@ pub enum FluidModel {
     Incompressible,
     /// Compressible Euler equations of an ideal gas (dissertation §3.2.1).
     Euler,
+}
+
+/// Where the incompressible flow's steps run.
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Device {
+    #[default]
+    Cpu,
+    /// The first GPU adapter wgpu finds (the fluid-gpu crate), the state
+    /// kept there from step to step: a uniform box on one rank, its sides
+    /// walls, given velocities, outflows or periodic, nothing in the flow.
+    Gpu,
 }
 
 impl FluidModel {
@@ -135,6 +154,10 @@ pub struct FluidSection {
     /// A box that follows the parachute (`[fluid.frame]`, incompressible).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frame: Option<FrameSpec>,
+    /// Where the steps run: "cpu", or "gpu" through wgpu (incompressible;
+    /// what the device does not cover yet, the check refuses).
+    #[serde(default, skip_serializing_if = "is_cpu")]
+    pub device: Device,
     /// Ratio of specific heats γ (euler); air's 1.4 when left out.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gamma: Option<f64>,
@@ -258,7 +281,35 @@ impl FluidSection {
             if let Some(frame) = &self.frame {
                 frame.check(c, self.resolved_sides());
             }
+            self.check_device(c);
         });
+    }
+
+    /// What `device = "gpu"` does not cover yet in the section itself (the
+    /// partners' part: `scene.rs`; the adapter: fluid-proc's `--check`).
+    fn check_device(&self, c: &mut Checker) {
+        if self.device != Device::Gpu {
+            return;
+        }
+        let mut refuse = |what: &str| {
+            c.problem(
+                &["device"],
+                format!("device = \"gpu\" does not run {what} yet: use device = \"cpu\""),
+            )
+        };
+        if self.flow_box.is_some_and(|b| b.core.is_some()) {
+            refuse("a graded box ([fluid.box.core])");
+        }
+        let parabolic = |s: &flow::SideSpec| matches!(s, flow::SideSpec::Parabolic(_));
+        if self
+            .resolved_sides()
+            .is_some_and(|s| s.iter().flatten().any(parabolic))
+        {
+            refuse("a parabolic side");
+        }
+        if self.frame.is_some() {
+            refuse("a box that follows the parachute ([fluid.frame])");
+        }
     }
 
     /// Every key given is one the model takes, and the model's needed
@@ -277,6 +328,7 @@ impl FluidSection {
             ("initial_velocity", self.initial_velocity.is_some()),
             ("probes", self.probes.is_some()),
             ("frame", self.frame.is_some()),
+            ("device", self.device != Device::Cpu),
             ("gamma", self.gamma.is_some()),
             ("cfl", self.cfl.is_some()),
             ("regions", self.regions.is_some()),

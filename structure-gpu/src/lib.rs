@@ -28,12 +28,11 @@
 //! # Ok::<(), structure_gpu::GpuError>(())
 //! ```
 
-mod device;
 mod network;
 mod program;
 mod solver;
 
-pub use device::{Gpu, GpuError, Precision};
+pub use gpu_device::{Gpu, GpuError, Precision};
 pub use network::{Damper, DampingLaw, Membrane, Network, Spring};
 pub use program::Scheme;
 pub use solver::Solver;

@@ -1,7 +1,7 @@
 //! The spring-mass network as the device reads it: plain arrays, handed
 //! over once, and the node-by-node assembly of element slots built from them.
 
-use crate::device::GpuError;
+use gpu_device::GpuError;
 
 /// A Hookean spring (thesis eq. 67), or a string that carries tension only
 /// beyond its compressive tolerance (thesis eq. 3).

@@ -2,10 +2,9 @@
 //! there: positions and velocities stay on the device across steps; only
 //! what the caller uploads and downloads crosses.
 
-use crate::device::{Gpu, GpuError, Precision};
 use crate::network::Network;
 use crate::program::{vector, Pass, Scheme};
-use wgpu::util::DeviceExt;
+use gpu_device::{buffer, check_size, non_empty, read_back, workgroups, Gpu, GpuError, Precision};
 
 /// Threads per workgroup (the kernels' `@workgroup_size`).
 const WORKGROUP: u32 = 64;
@@ -67,13 +66,14 @@ impl Buffers {
         check_size(device, "the assembly", 4 * assembly.len() as u64)?;
         let storage = wgpu::BufferUsages::STORAGE;
         let copied = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-        let reals =
-            |label, values: &[f64], usage| buffer(device, label, &padded(p.bytes(values)), usage);
+        let reals = |label, values: &[f64], usage| {
+            buffer(device, label, &non_empty(p.bytes(values)), usage)
+        };
         let words = |label, values: &[u32]| {
             buffer(
                 device,
                 label,
-                &padded(bytemuck::cast_slice(values).to_vec()),
+                &non_empty(bytemuck::cast_slice(values).to_vec()),
                 storage,
             )
         };
@@ -165,11 +165,12 @@ impl Solver {
     pub fn new(gpu: &Gpu, net: &Network, scheme: Scheme) -> Result<Solver, GpuError> {
         // Errors in creating buffers, pipelines and bindings come back here
         // instead of reaching wgpu's default handler, which panics.
-        gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        gpu.device()
+            .push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        gpu.device().push_error_scope(wgpu::ErrorFilter::Validation);
         let made = Solver::make(gpu, net, scheme);
         for _ in 0..2 {
-            if let Some(e) = pollster::block_on(gpu.device.pop_error_scope()) {
+            if let Some(e) = pollster::block_on(gpu.device().pop_error_scope()) {
                 return Err(GpuError::Kernel(e.to_string()));
             }
         }
@@ -177,7 +178,7 @@ impl Solver {
     }
 
     fn make(gpu: &Gpu, net: &Network, scheme: Scheme) -> Result<Solver, GpuError> {
-        let device = gpu.device.clone();
+        let device = gpu.device().clone();
         let precision = gpu.precision();
         let items = net.springs.len()
             + net.membrane.len()
@@ -205,7 +206,7 @@ impl Solver {
         });
         Ok(Solver {
             device,
-            queue: gpu.queue.clone(),
+            queue: gpu.queue().clone(),
             precision,
             nodes: net.nodes(),
             elements,
@@ -297,7 +298,7 @@ impl Solver {
                     };
                     pass.set_pipeline(pipeline);
                     pass.set_bind_group(0, &self.bind_group, &[k as u32 * self.op_stride]);
-                    let (x, y) = workgroups(threads);
+                    let (x, y) = workgroups(threads, WORKGROUP);
                     pass.dispatch_workgroups(x, y, 1);
                 }
             }
@@ -330,81 +331,19 @@ impl Solver {
         }
         let size = (self.precision.size() * len) as u64;
         let bytes = size * outs.len() as u64;
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(
+        let range = [(first as u64 * size, bytes)];
+        let data = read_back(
+            &self.device,
+            &self.queue,
             &self.buffers.vecs,
-            first as u64 * size,
+            &range,
             &self.readback,
-            0,
-            bytes,
-        );
-        self.queue.submit([encoder.finish()]);
-        let slice = self.readback.slice(..bytes);
-        let (sent, mapped) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = sent.send(r);
-        });
-        let lost = |e: &dyn std::fmt::Display| GpuError::Lost(e.to_string());
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| lost(&e))?;
-        mapped.recv().map_err(|e| lost(&e))?.map_err(|e| lost(&e))?;
-        {
-            let data = slice.get_mapped_range();
-            for (k, out) in outs.iter_mut().enumerate() {
-                let at = k * size as usize;
-                self.precision.read(&data[at..at + size as usize], out);
-            }
+        )?;
+        for (k, out) in outs.iter_mut().enumerate() {
+            let at = k * size as usize;
+            self.precision.read(&data[at..at + size as usize], out);
         }
-        self.readback.unmap();
         Ok(())
-    }
-}
-
-/// Refuse a buffer larger than the device binds.
-fn check_size(device: &wgpu::Device, what: &'static str, needed: u64) -> Result<(), GpuError> {
-    let limits = device.limits();
-    let limit = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
-    if needed > limit {
-        return Err(GpuError::TooLarge {
-            what,
-            needed,
-            limit,
-        });
-    }
-    Ok(())
-}
-
-/// A binding may not be empty: an element-free network gets one unused word.
-fn padded(mut bytes: Vec<u8>) -> Vec<u8> {
-    if bytes.is_empty() {
-        bytes.resize(8, 0);
-    }
-    bytes
-}
-
-fn buffer(
-    device: &wgpu::Device,
-    label: &str,
-    contents: &[u8],
-    usage: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents,
-        usage,
-    })
-}
-
-/// Workgroups for `threads` threads: along x up to the 65 535 every
-/// adapter allows, then rows of y (the kernels' `index`).
-fn workgroups(threads: u32) -> (u32, u32) {
-    const MAX: u32 = 65_535;
-    let groups = threads.div_ceil(WORKGROUP).max(1);
-    if groups <= MAX {
-        (groups, 1)
-    } else {
-        (MAX, groups.div_ceil(MAX))
     }
 }
 
@@ -522,28 +461,5 @@ fn pipelines(
     match pollster::block_on(device.pop_error_scope()) {
         Some(e) => Err(GpuError::Kernel(e.to_string())),
         None => Ok(pipelines),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Every thread index the kernels' `index` forms (gid.x + gid.y·x·64)
-    /// below n is reached, and x stays within the 65 535 workgroups an
-    /// adapter allows.
-    #[test]
-    fn the_workgroups_cover_every_thread() {
-        for n in [1, 63, 64, 65, 65_535 * 64, 65_535 * 64 + 1, 10_000_000] {
-            let (x, y) = workgroups(n);
-            assert!(x <= 65_535 && y >= 1, "{n}: {x} × {y}");
-            let threads = x as u64 * y as u64 * WORKGROUP as u64;
-            assert!(threads >= n as u64, "{n}: {threads} threads");
-            // The last row must be needed: no row past n.
-            assert!(
-                (x as u64 * (y as u64 - 1) * WORKGROUP as u64) < n as u64,
-                "{n}: a spare row"
-            );
-        }
     }
 }

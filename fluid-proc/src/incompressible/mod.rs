@@ -68,6 +68,8 @@ pub mod probe;
 pub mod profile;
 // The model in the run loop (`run.rs` of the crate).
 pub mod run;
+// The step on a GPU (`[fluid] device = "gpu"`).
+pub mod device;
 
 use crate::incompressible::checkpoint::History;
 use crate::incompressible::component::{adams_bashforth, by_component, ChangeInputs, Work};
@@ -100,6 +102,8 @@ pub enum FlowError {
     Courant(f64),
     #[error("the velocity is no longer finite")]
     NonFinite,
+    #[error("on the device: {0}")]
+    Device(String),
 }
 
 /// The box, its sides and the fluid.
@@ -158,6 +162,8 @@ pub struct Incompressible {
     /// Under implicit coupling, the window's first prediction, for the
     /// window's later tries (`prediction.rs`); None: none kept.
     prediction: Option<Prediction>,
+    /// Where the steps run on a GPU (`device.rs`).
+    device: Option<device::OnDevice>,
 }
 
 impl Incompressible {
@@ -198,6 +204,7 @@ impl Incompressible {
             frame: None,
             ground_sides: setup.sides,
             prediction: None,
+            device: None,
             setup,
         };
         flow.impose_sides();
@@ -206,6 +213,9 @@ impl Incompressible {
 
     /// The step history and solver warm starts (`checkpoint.rs`).
     pub fn save_history(&self, into: &mut History) {
+        if self.device_history(into) {
+            return;
+        }
         into.phi.clone_from(&self.phi);
         into.last_dt = self.last_dt;
         let work = self.work.iter().flatten();
@@ -218,6 +228,7 @@ impl Incompressible {
     }
 
     pub fn restore_history(&mut self, from: &History) {
+        self.host_changed();
         self.phi.clone_from(&from.phi);
         self.last_dt = from.last_dt;
         let work = self.work.iter_mut().flatten();
@@ -241,6 +252,7 @@ impl Incompressible {
     /// repeats (and the faces two ranks share) equal, after the caller set
     /// `u`.
     pub fn impose_sides(&mut self) {
+        self.host_changed();
         let (sides, side_by_side) = (&self.sides, self.side_by_side());
         let mut items: Vec<_> = self.padded.iter_mut().zip(&mut self.u.u).collect();
         by_component(side_by_side, &mut items, |_, (p, u)| {
@@ -382,9 +394,12 @@ impl Incompressible {
         self.part.max(most) * dt
     }
 
-    /// Advances the flow by `dt` [s].
+    /// Advances the flow by `dt` [s], `u` and `q` up to date after it
+    /// (on a device too, `device.rs`).
     pub fn step(&mut self, dt: f64) -> Result<StepReport, FlowError> {
-        self.step_in_window(dt, false)
+        let report = self.step_in_window(dt, false)?;
+        self.fetch()?;
+        Ok(report)
     }
 
     /// Implicit coupling: from now on, keep each window's first prediction
@@ -393,10 +408,14 @@ impl Incompressible {
         self.prediction.get_or_insert_with(Prediction::default);
     }
 
-    /// [`Incompressible::step`]; `first`: the step is its window's first,
+    /// [`Incompressible::step`], `u` and `q` left on the device where the
+    /// flow runs on one until [`Incompressible::fetch`]; `first`: the step is its window's first,
     /// whose prediction a later try of the window takes once
     /// [`Incompressible::keep_predictions`] was called.
     pub fn step_in_window(&mut self, dt: f64, first: bool) -> Result<StepReport, FlowError> {
+        if self.device.is_some() {
+            return self.step_on_device(dt);
+        }
         let courant = self.courant(dt);
         if !courant.is_finite() {
             return Err(FlowError::NonFinite);

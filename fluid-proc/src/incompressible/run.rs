@@ -21,9 +21,10 @@ use crate::incompressible::setup::flow_on;
 use crate::incompressible::{Incompressible, StepReport};
 use crate::model::{Cells, Lead, Model, Window};
 use exchange::fields::*;
+use fluid_gpu::Gpu;
 use fluid_section::flow::Probe;
 use fluid_section::frame::FrameSpec;
-use fluid_section::{FluidSection, Scene};
+use fluid_section::{Device, FluidSection, Scene};
 use participant::{Advance, Declaration, Monitor, Participant};
 use std::sync::Arc;
 
@@ -73,6 +74,11 @@ impl Model for Flow {
     fn on(scene: &Scene, comm: Arc<dyn Comm>) -> Result<Flow, String> {
         let section = &scene.fluid;
         let mut flow = flow_on(section, comm).ok_or("[fluid] has no box")?;
+        if section.device == Device::Gpu {
+            let gpu = Gpu::new().map_err(|e| format!("device = \"gpu\": {e}"))?;
+            flow.to_device(&gpu)
+                .map_err(|e| format!("device = \"gpu\": {e}"))?;
+        }
         if let Some(v) = scene.frame_start() {
             flow.start_following(v);
         }
@@ -101,6 +107,9 @@ impl Model for Flow {
                 .step_in_window(w.dt / n as f64, k == 0)
                 .map_err(|e| format!("flow step at t = {} s: {e}", flow.time))?;
         }
+        // The window's end state to the host, where it ran on a device.
+        flow.fetch()
+            .map_err(|e| format!("flow at t = {} s: {e}", flow.time))?;
         let monitors = if w.window_end {
             // How far from steady: max|∂u/∂t| over the window [m/s²].
             let change = flow.max_change(&self.before) / w.dt;

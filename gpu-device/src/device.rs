@@ -1,4 +1,4 @@
-//! The adapter, the device and the precision the structure's kernels run in.
+//! The adapter, the device and the precision the kernels run in.
 
 use thiserror::Error;
 
@@ -21,7 +21,7 @@ impl Precision {
     }
 
     /// The WGSL type of a real.
-    pub(crate) fn wgsl(self) -> &'static str {
+    pub fn wgsl(self) -> &'static str {
         match self {
             Precision::F64 => "f64",
             Precision::F32 => "f32",
@@ -29,7 +29,7 @@ impl Precision {
     }
 
     /// `values` as the device stores them.
-    pub(crate) fn bytes(self, values: &[f64]) -> Vec<u8> {
+    pub fn bytes(self, values: &[f64]) -> Vec<u8> {
         match self {
             Precision::F64 => bytemuck::cast_slice(values).to_vec(),
             Precision::F32 => {
@@ -40,7 +40,7 @@ impl Precision {
     }
 
     /// Reals the device stored, widened to f64 into `out`.
-    pub(crate) fn read(self, bytes: &[u8], out: &mut [f64]) {
+    pub fn read(self, bytes: &[u8], out: &mut [f64]) {
         match self {
             Precision::F64 => out.copy_from_slice(bytemuck::cast_slice(bytes)),
             Precision::F32 => {
@@ -66,7 +66,7 @@ pub enum GpuError {
         adapter: String,
         source: wgpu::RequestDeviceError,
     },
-    #[error("the structure is too large for this adapter: {what} needs {needed} bytes, it binds at most {limit}")]
+    #[error("too large for this adapter: {what} needs {needed} bytes, it binds at most {limit}")]
     TooLarge {
         what: &'static str,
         needed: u64,
@@ -74,16 +74,16 @@ pub enum GpuError {
     },
     #[error("{0} does not fit the device's 32-bit indices")]
     TooManyElements(&'static str),
-    #[error("the device rejected the structure's kernels: {0}")]
+    #[error("the device rejected the kernels: {0}")]
     Kernel(String),
-    #[error("the device stopped while running the structure: {0}")]
+    #[error("the device stopped while running: {0}")]
     Lost(String),
 }
 
 /// An adapter, its device and queue, and the precision kernels use on it.
 pub struct Gpu {
-    pub(crate) device: wgpu::Device,
-    pub(crate) queue: wgpu::Queue,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
     precision: Precision,
     name: String,
 }
@@ -127,7 +127,7 @@ impl Gpu {
             Precision::F32 => wgpu::Features::empty(),
         };
         let desc = wgpu::DeviceDescriptor {
-            label: Some("structure"),
+            label: Some("canopy"),
             required_features: features,
             // As large as the adapter binds: big canopies need big buffers.
             required_limits: adapter.limits(),
@@ -146,6 +146,14 @@ impl Gpu {
             precision,
             name,
         })
+    }
+
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
     }
 
     pub fn precision(&self) -> Precision {

@@ -1,0 +1,27 @@
+//! The incompressible flow's step on a GPU, through wgpu compute shaders:
+//! the projection method of dissertation §3.2.2 as fluid-proc's
+//! `incompressible` module runs it on the CPU, pass for pass (WENO5
+//! advection with Adams–Bashforth, the Crank–Nicolson viscous solves by
+//! conjugate gradients, the multigrid-preconditioned pressure solve, the
+//! pressure update), in f64 where the adapter has it.
+//!
+//! A solver hands it its box once ([`FlowBox`]), sets the state
+//! ([`Flow::upload`]), steps it on the device ([`Flow::step`]) and reads it
+//! back when it needs it ([`Flow::download`]): the state stays on the
+//! device between steps, and a solve's iterations run there too, its sums
+//! and flags in a buffer of scalars, the host reading back only the flags.
+//!
+//! It covers a uniform box on one rank with sides of given velocity,
+//! outflow or periodic, and nothing in the flow: the markers of bodies and
+//! the canopy, a graded box, a parabolic inflow and a box that follows the
+//! parachute stay on the CPU for now (fluid-section's check refuses them
+//! with `device = "gpu"`).
+
+mod flow;
+mod memory;
+mod plan;
+mod spec;
+
+pub use flow::{Flow, FlowError, History, Report, TOLERANCE};
+pub use gpu_device::{Gpu, GpuError, Precision};
+pub use spec::{FlowBox, Side, GHOSTS};

@@ -1,0 +1,146 @@
+//! The box the device steps: its cells, spacings, sides and viscosity, and
+//! the layouts that follow from them: each velocity component on its faces
+//! with three ghost layers a side (fluid-proc's `Padded`), the faces the
+//! momentum equation updates, and the multigrid's levels.
+
+/// What a side of the box does (fluid-proc's `side::Side`, less the sides
+/// the device does not cover yet: a parabolic inflow, another rank).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Side {
+    /// The velocity on the side is given [m/s]: a wall, a lid, an inflow.
+    Velocity([f64; 3]),
+    /// An outflow at p = 0.
+    Outflow,
+    /// Wraps to the opposite side, which must be periodic too.
+    Periodic,
+}
+
+impl Side {
+    /// The kind the kernels read (flow.wgsl's GIVEN, OUTFLOW, PERIODIC).
+    pub(crate) fn kind(self) -> u32 {
+        match self {
+            Side::Velocity(_) => 0,
+            Side::Outflow => 1,
+            Side::Periodic => 2,
+        }
+    }
+}
+
+/// Ghost layers a side along an axis more than one cell thick: WENO5
+/// reads three values beyond a face.
+pub const GHOSTS: usize = 3;
+
+/// A uniform box of cells and its fluid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlowBox {
+    /// Cells along x, y, z (one along z: a 2-D flow, periodic in z).
+    pub n: [usize; 3],
+    /// Spacings [m].
+    pub h: [f64; 3],
+    /// `sides[d] = [low, high]` along axis d.
+    pub sides: [[Side; 2]; 3],
+    /// Kinematic viscosity ν [m²/s].
+    pub nu: f64,
+}
+
+/// The coarsest multigrid level has at most this many cells (fluid-proc's
+/// multigrid.rs)…
+const COARSEST_CELLS: usize = 64;
+
+impl FlowBox {
+    pub fn cells(&self) -> usize {
+        self.n.iter().product()
+    }
+
+    /// Whether component c has faces to update (an axis one cell thick
+    /// carries none: the z of a 2-D flow).
+    pub fn active(&self, c: usize) -> bool {
+        self.n[c] > 1
+    }
+
+    pub(crate) fn ghosts(&self) -> [usize; 3] {
+        self.n.map(|n| if n > 1 { GHOSTS } else { 0 })
+    }
+
+    /// Component c's padded array: n + 1 faces along c, n cells elsewhere,
+    /// and the ghosts.
+    pub(crate) fn dims(&self, c: usize) -> [usize; 3] {
+        let g = self.ghosts();
+        [0, 1, 2].map(|a| self.n[a] + (a == c) as usize + 2 * g[a])
+    }
+
+    pub(crate) fn strides(&self, c: usize) -> [usize; 3] {
+        let d = self.dims(c);
+        [1, d[0], d[0] * d[1]]
+    }
+
+    pub fn padded_len(&self, c: usize) -> usize {
+        self.dims(c).iter().product()
+    }
+
+    /// The faces of component c the momentum equation updates, as face
+    /// coordinates [low, high) per axis: not a side face with a given
+    /// velocity, nor the periodic repeat of face 0 (fluid-proc's `Padded::on`).
+    pub(crate) fn unknown(&self, c: usize) -> [[usize; 2]; 3] {
+        let [low, high] = self.sides[c];
+        [0, 1, 2].map(|a| match a == c {
+            true => [
+                matches!(low, Side::Velocity(_)) as usize,
+                self.n[c] + (high == Side::Outflow) as usize,
+            ],
+            false => [0, self.n[a]],
+        })
+    }
+
+    /// φ is fixed nowhere (no outflow): A is singular, the solve mean-free.
+    pub fn singular(&self) -> bool {
+        !self.sides.iter().flatten().any(|&s| s == Side::Outflow)
+    }
+
+    /// The multigrid's levels, finest first: each halves every axis that
+    /// has an even count of at least 4 cells (2 where periodic), as
+    /// fluid-proc's `Grid::coarse_plans` does on a uniform box, until it
+    /// has at most 64 cells or no axis halves. Cells and spacings.
+    pub(crate) fn levels(&self) -> Vec<([usize; 3], [f64; 3])> {
+        let mut levels = vec![(self.n, self.h)];
+        loop {
+            let (n, h) = *levels.last().unwrap();
+            if n.iter().product::<usize>() <= COARSEST_CELLS {
+                break;
+            }
+            let halves = [0, 1, 2].map(|d| {
+                let least = if self.sides[d][0] == Side::Periodic {
+                    2
+                } else {
+                    4
+                };
+                n[d].is_multiple_of(2) && n[d] >= least
+            });
+            if !halves.contains(&true) {
+                break;
+            }
+            let next = [0, 1, 2].map(|d| if halves[d] { n[d] / 2 } else { n[d] });
+            let h = [0, 1, 2].map(|d| if halves[d] { 2.0 * h[d] } else { h[d] });
+            levels.push((next, h));
+        }
+        levels
+    }
+
+    /// Why the device cannot step this box, if it cannot.
+    pub fn refused(&self) -> Option<String> {
+        for d in 0..3 {
+            let periodic = self.sides[d].map(|s| s == Side::Periodic);
+            if periodic[0] != periodic[1] {
+                return Some(format!("axis {d} is periodic on one side only"));
+            }
+            if self.n[d] == 0 || (self.n[d] == 1 && !periodic[0]) {
+                return Some(format!("axis {d} one cell thick must be periodic"));
+            }
+            if self.h[d].is_nan() || self.h[d] <= 0.0 {
+                return Some(format!("spacing {} along axis {d}", self.h[d]));
+            }
+        }
+        (u32::try_from(self.padded_len(0) * 16).is_err())
+            .then(|| "more faces than 32-bit indices reach".to_string())
+    }
+}

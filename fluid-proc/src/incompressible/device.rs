@@ -1,0 +1,180 @@
+//! The step on a GPU (`[fluid] device = "gpu"`): the fluid-gpu crate runs
+//! the same projection method on the device, the state kept there from
+//! step to step. The host's `u` and `q` are brought back when the run
+//! loop asks at a window's end ([`Incompressible::fetch`]), for the
+//! monitors, the output and the exchanged fields, and after each
+//! [`Incompressible::step`] called alone; a restore, or anything else that
+//! sets the state on the host, sends it up again before the next step.
+//!
+//! The device covers a uniform box on one rank with sides of given
+//! velocity, outflow or periodic, and no bodies or canopy in the flow: what
+//! it does not cover, fluid-section's check refuses with `device = "gpu"`,
+//! and [`device_box`] says why here.
+
+use crate::incompressible::checkpoint::History;
+use crate::incompressible::setup::flow_from;
+use crate::incompressible::side::Side;
+use crate::incompressible::{FlowError, Incompressible, StepReport};
+use fluid_gpu::{Flow, FlowBox, Gpu};
+use fluid_section::flow::MAX_COURANT;
+use fluid_section::FluidSection;
+
+/// The flow on the device, and whether it holds the current state.
+pub(crate) struct OnDevice {
+    flow: Flow,
+    /// The device holds the current state (else the host does).
+    current: bool,
+    /// The host's `u` and `q` are older than the device's.
+    host_stale: bool,
+}
+
+/// The box the device steps for this flow, or why it cannot.
+pub fn device_box(flow: &Incompressible) -> Result<FlowBox, String> {
+    let g = &flow.setup.grid;
+    if flow.part.split() {
+        return Err("the device runs the flow on one rank (leave out [run] ranks)".into());
+    }
+    if g.is_graded() {
+        return Err("the device runs a uniform box ([fluid.box] cells, no core)".into());
+    }
+    let side = |s: Side| match s {
+        Side::Velocity(v) => Ok(fluid_gpu::Side::Velocity(v)),
+        Side::Outflow => Ok(fluid_gpu::Side::Outflow),
+        Side::Periodic => Ok(fluid_gpu::Side::Periodic),
+        Side::Parabolic(_) => Err("the device does not run a parabolic side yet".to_string()),
+        Side::Rank => Err("the device runs the flow on one rank".to_string()),
+    };
+    let mut sides = [[fluid_gpu::Side::Periodic; 2]; 3];
+    for (to, from) in sides
+        .iter_mut()
+        .flatten()
+        .zip(flow.setup.sides.iter().flatten())
+    {
+        *to = side(*from)?;
+    }
+    Ok(FlowBox {
+        n: g.n,
+        h: [0, 1, 2].map(|d| g.axes[d].width(0)),
+        sides,
+        nu: flow.setup.nu,
+    })
+}
+
+/// Whether the first adapter takes the section's flow: the `--check`
+/// answer of `device = "gpu"` (the kernels built, nothing run).
+pub fn probe(section: &FluidSection) -> Result<(), String> {
+    let mut flow = flow_from(section).ok_or("[fluid] has no box")?;
+    let gpu = Gpu::new().map_err(|e| e.to_string())?;
+    flow.to_device(&gpu)
+}
+
+impl Incompressible {
+    /// From now on, step on `gpu`.
+    pub fn to_device(&mut self, gpu: &Gpu) -> Result<(), String> {
+        let spec = device_box(self)?;
+        let flow = Flow::new(gpu, &spec).map_err(|e| e.to_string())?;
+        self.device = Some(OnDevice {
+            flow,
+            current: false,
+            host_stale: false,
+        });
+        Ok(())
+    }
+
+    /// Whether the steps run on a device.
+    pub fn on_device(&self) -> bool {
+        self.device.is_some()
+    }
+
+    /// The state on the host changed: send it up before the next step.
+    pub(crate) fn host_changed(&mut self) {
+        if let Some(d) = &mut self.device {
+            d.current = false;
+        }
+    }
+
+    /// The step history, from the device where it holds the state.
+    pub(crate) fn device_history(&self, into: &mut History) -> bool {
+        let Some(d) = self.device.as_ref().filter(|d| d.current) else {
+            return false;
+        };
+        // A device lost while saving leaves the window unsaveable; the
+        // next step reports the device's error.
+        let Ok(h) = d.flow.history() else {
+            return false;
+        };
+        into.phi = h.phi;
+        into.last_dt = h.last_dt;
+        into.advection = h.advection;
+        into.delta = h.delta;
+        true
+    }
+
+    /// [`Incompressible::step_in_window`] on the device.
+    pub(crate) fn step_on_device(&mut self, dt: f64) -> Result<StepReport, FlowError> {
+        if self
+            .bodies
+            .iter()
+            .chain(&self.canopy)
+            .any(|b| !b.markers.is_empty())
+            || self.frame.is_some()
+        {
+            return Err(FlowError::Device(
+                "the device does not run bodies, a canopy or a following frame in the flow yet"
+                    .into(),
+            ));
+        }
+        if !self.device.as_ref().is_some_and(|d| d.current) {
+            let mut history = History::default();
+            self.save_history(&mut history);
+            let h = fluid_gpu::History {
+                phi: history.phi,
+                last_dt: history.last_dt,
+                advection: history.advection,
+                delta: history.delta,
+            };
+            let d = self.device.as_mut().expect("a device");
+            d.flow.upload(&self.u.u, &self.q, Some(&h)).map_err(gpu)?;
+            d.current = true;
+        }
+        let d = self.device.as_mut().expect("a device");
+        let courant = d.flow.courant(dt);
+        if !courant.is_finite() {
+            return Err(FlowError::NonFinite);
+        }
+        if courant > MAX_COURANT {
+            return Err(FlowError::Courant(courant));
+        }
+        let clock = std::time::Instant::now();
+        let report = d.flow.step(dt).map_err(|e| match e {
+            fluid_gpu::FlowError::NonFinite => FlowError::NonFinite,
+            e => FlowError::Device(e.to_string()),
+        })?;
+        d.host_stale = true;
+        self.last_dt = Some(dt);
+        self.time += dt;
+        Ok(StepReport {
+            courant,
+            pressure_iterations: report.pressure_iterations,
+            pressure_seconds: clock.elapsed().as_secs_f64(),
+            viscous_iterations: report.viscous_iterations,
+            kept_prediction: false,
+        })
+    }
+}
+
+impl Incompressible {
+    /// Brings the device's `u` and `q` to the host, where they are older.
+    pub fn fetch(&mut self) -> Result<(), FlowError> {
+        let Some(d) = self.device.as_mut().filter(|d| d.host_stale) else {
+            return Ok(());
+        };
+        d.flow.download(&mut self.u.u, &mut self.q).map_err(gpu)?;
+        d.host_stale = false;
+        Ok(())
+    }
+}
+
+fn gpu(e: fluid_gpu::GpuError) -> FlowError {
+    FlowError::Device(e.to_string())
+}
