@@ -2,10 +2,14 @@
 //! once and kept there, a step run as the lists of `plan.rs` with the
 //! solves iterated on the device until their flags say they are done.
 
+use crate::markers::{Law, Marker, Sorted, MARKER};
 use crate::memory::{block, slot, slots, Memory};
-use crate::plan::{Kernel, Pass, Plan, KERNELS, RECORD_BYTES};
-use crate::spec::FlowBox;
-use gpu_device::{buffer, check_size, non_empty, read_back, Gpu, GpuError, Precision};
+use crate::plan::{
+    Kernel, Pass, Plan, Rec, FORCING_PASSES, FORCING_RECORDS, KERNELS, RECORD_BYTES,
+    SPREAD_WORKGROUP, WORKGROUP,
+};
+use crate::spec::{FlowBox, Side};
+use gpu_device::{buffer, check_size, non_empty, read_back, workgroups, Gpu, GpuError, Precision};
 
 /// Relative residual of the pressure and the viscous solves (fluid-proc's
 /// PRESSURE_TOLERANCE and VISCOUS_TOLERANCE).
@@ -33,6 +37,29 @@ pub enum FlowError {
     NonFinite,
 }
 
+/// How the box moves over a step, when it follows the parachute
+/// (fluid-proc's frame.rs): the sides' given velocities seen from it at the
+/// step's start and at its end (`sides[d][high]`, zero where a side is
+/// not of given velocity), its velocity over the ground at the end, and
+/// its change of velocity over the step [m/s].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Moving {
+    pub sides: [[[f64; 3]; 2]; 3],
+    pub sides_end: [[[f64; 3]; 2]; 3],
+    pub frame: [f64; 3],
+    pub dv: [f64; 3],
+}
+
+/// The given velocities of `sides` (zero where a side gives none).
+pub fn given(sides: &[[Side; 2]; 3]) -> [[[f64; 3]; 2]; 3] {
+    sides.map(|pair| {
+        pair.map(|s| match s {
+            Side::Velocity(v) => v,
+            _ => [0.0; 3],
+        })
+    })
+}
+
 /// What a step did.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Report {
@@ -57,6 +84,9 @@ struct Buffers {
     part: wgpu::Buffer,
     ops: wgpu::Buffer,
     readback: wgpu::Buffer,
+    /// The markers' records and their blocks (`markers.rs`), grown as needed.
+    markers: wgpu::Buffer,
+    blocks: wgpu::Buffer,
 }
 
 /// The incompressible flow on a box, its state on the device.
@@ -69,8 +99,12 @@ pub struct Flow {
     plan: Plan,
     pipelines: Vec<wgpu::ComputePipeline>,
     buffers: Buffers,
+    layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
     op_stride: u32,
+    /// The markers as the device holds them, and the forcing's passes.
+    sorted: Option<Sorted>,
+    forcing: Vec<Pass>,
     /// The slot the next step's Nⁿ goes to.
     parity: usize,
     last_dt: Option<f64>,
@@ -128,8 +162,10 @@ impl Flow {
                 &device,
                 "ops",
                 &records(&plan, op_stride),
-                wgpu::BufferUsages::UNIFORM,
+                wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             ),
+            markers: buffer(&device, "markers", &zeros(MARKER), copied),
+            blocks: buffer(&device, "blocks", &[0; 8], copied),
             readback: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("readback"),
                 size: readback_bytes,
@@ -149,8 +185,11 @@ impl Flow {
             plan,
             pipelines,
             buffers,
+            layout,
             bind_group,
             op_stride,
+            sorted: None,
+            forcing: Vec::new(),
             parity: 0,
             last_dt: None,
             courant: [0.0; 2],
@@ -176,15 +215,12 @@ impl Flow {
         s[slot::TOL_V] = TOLERANCE;
         s[slot::TOL_P] = TOLERANCE;
         s[slot::CELLS] = b.cells() as f64;
+        s[slot::RHO] = b.density;
+        s[slot::SPACING] = b.spacing();
+        s[slot::CELL] = b.h.iter().product();
         for d in 0..3 {
             s[slot::INV_H + d] = 1.0 / b.h[d];
             s[slot::INV_H2 + d] = 1.0 / (b.h[d] * b.h[d]);
-            for up in 0..2 {
-                if let crate::Side::Velocity(v) = b.sides[d][up] {
-                    let at = slot::SIDE_U + 3 * (2 * d + up);
-                    s[at..at + 3].copy_from_slice(&v);
-                }
-            }
         }
         for (l, (_, h)) in b.levels().iter().enumerate() {
             for d in 0..3 {
@@ -377,6 +413,27 @@ impl Flow {
     /// Advances the flow by `dt` [s] (fluid-proc's `Incompressible::step`
     /// on the device): the predictor, the projection, the pressure update.
     pub fn step(&mut self, dt: f64) -> Result<Report, FlowError> {
+        let sides = given(&self.spec.sides);
+        self.step_moving(
+            dt,
+            &Moving {
+                sides,
+                sides_end: sides,
+                frame: [0.0; 3],
+                dv: [0.0; 3],
+            },
+        )
+    }
+
+    /// [`Flow::step`] in a box that moves (fluid-proc's frame.rs).
+    pub fn step_moving(&mut self, dt: f64, moving: &Moving) -> Result<Report, FlowError> {
+        let mut m = Vec::with_capacity(2 * 18 + 6);
+        m.extend(moving.sides.iter().flatten().flatten());
+        self.write_scalars(slot::SIDE_U, &m);
+        m.clear();
+        m.extend(moving.sides_end.iter().flatten().flatten());
+        m.extend(moving.frame.iter().chain(&moving.dv));
+        self.write_scalars(slot::SIDE_END, &m);
         let ab = match self.last_dt {
             Some(old) => [1.0 + 0.5 * dt / old, -0.5 * dt / old],
             None => [1.0, 0.0],
@@ -386,8 +443,11 @@ impl Flow {
         self.write_scalars(block(levels, 0), &vec![0.0; 4 * slot::BLOCK]);
         let start = self.plan.start[self.parity].clone();
         let viscous = self.iterate(&start, 0)?;
-        let projection = self.plan.projection.clone();
-        let pressure = self.iterate(&projection, 1)?;
+        let plan = &self.plan;
+        let first =
+            [&plan.change, &self.forcing, &plan.impose, &plan.projection].map(|l| l.as_slice());
+        let first: Vec<Pass> = first.concat();
+        let pressure = self.iterate(&first, 1)?;
         self.run(&[&self.plan.end])?;
         let s = self.read_scalars()?;
         self.courant = [s[slot::COURANT], s[slot::FINITE]];
@@ -478,6 +538,133 @@ impl Flow {
             .filter_map(|c| self.mem.comp[c].map(|a| (c, a)))
             .collect()
     }
+
+    /// Puts the bodies' and the canopy's `markers` in the flow (none: the
+    /// flow alone): each step from now on forces the air at them
+    /// (fluid-proc's `immersed::force`), and what each gives the fluid is
+    /// summed on the device until [`Flow::take_given`].
+    pub fn set_markers(&mut self, markers: &[Marker]) -> Result<(), GpuError> {
+        let sorted = Sorted::of(&self.spec, markers);
+        let p = self.precision;
+        let (record_bytes, table_bytes) = (sorted.records.len() * p.size(), sorted.table.len() * 4);
+        check_size(&self.device, "the markers", record_bytes as u64)?;
+        let storage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST;
+        let mut grown = false;
+        if (record_bytes as u64) > self.buffers.markers.size() {
+            let bytes = non_empty(p.bytes(&vec![0.0; 2 * sorted.records.len()]));
+            self.buffers.markers = buffer(&self.device, "markers", &bytes, storage);
+            grown = true;
+        }
+        if (table_bytes as u64) > self.buffers.blocks.size() {
+            let bytes = vec![0u8; 2 * table_bytes];
+            self.buffers.blocks = buffer(&self.device, "blocks", &bytes, storage);
+            grown = true;
+        }
+        if grown {
+            self.bind_group = bind_group(&self.device, &self.layout, &self.buffers);
+        }
+        if !markers.is_empty() {
+            self.queue
+                .write_buffer(&self.buffers.markers, 0, &p.bytes(&sorted.records));
+            self.queue
+                .write_buffer(&self.buffers.blocks, 0, bytemuck::cast_slice(&sorted.table));
+        }
+        self.forcing = self.forcing_passes(&sorted, markers);
+        self.sorted = Some(sorted);
+        Ok(())
+    }
+
+    /// The forcing passes over `sorted`, their records written: the porous
+    /// sheets' drag, then FORCING_PASSES − 1 passes over the others.
+    fn forcing_passes(&self, sorted: &Sorted, markers: &[Marker]) -> Vec<Pass> {
+        let porous = markers.iter().any(|m| matches!(m.law, Law::Porous(_)));
+        let others = markers.iter().any(|m| !matches!(m.law, Law::Porous(_)));
+        let count = markers.len();
+        let mut list = Vec::new();
+        let mut recs = Vec::new();
+        for pass in 0..FORCING_PASSES {
+            let aux = (pass > 0) as usize;
+            if (aux == 0 && !porous) || (aux == 1 && !others) {
+                continue;
+            }
+            let each = Rec {
+                aux,
+                count,
+                ..Rec::default()
+            };
+            for kernel in [Kernel::Interpolate, Kernel::Pushes] {
+                list.push((kernel, each, workgroups(count as u32, WORKGROUP)));
+            }
+            for &(start, blocks) in &sorted.colours {
+                let rec = Rec {
+                    o: [start, 0, 0, 0],
+                    aux,
+                    count: blocks,
+                    ..Rec::default()
+                };
+                list.push((
+                    Kernel::Spread,
+                    rec,
+                    workgroups(blocks as u32, SPREAD_WORKGROUP),
+                ));
+            }
+        }
+        debug_assert!(list.len() <= FORCING_RECORDS);
+        let passes = list
+            .into_iter()
+            .enumerate()
+            .map(|(i, (kernel, rec, groups))| {
+                recs.push(rec.words());
+                Pass {
+                    kernel,
+                    op: (self.plan.forcing + i) as u32,
+                    groups,
+                }
+            })
+            .collect();
+        let mut bytes = vec![0u8; recs.len() * self.op_stride as usize];
+        for (k, r) in recs.iter().enumerate() {
+            let at = k * self.op_stride as usize;
+            bytes[at..at + RECORD_BYTES].copy_from_slice(bytemuck::cast_slice(r));
+        }
+        if !bytes.is_empty() {
+            let at = (self.plan.forcing * self.op_stride as usize) as u64;
+            self.queue.write_buffer(&self.buffers.ops, at, &bytes);
+        }
+        passes
+    }
+
+    /// What each marker (in the order [`Flow::set_markers`] took them)
+    /// has given the fluid since the markers were set or last taken: Σ
+    /// F_k ΔV_k Δt, momentum per unit density [m⁴/s]; the sums start again.
+    pub fn take_given(&mut self) -> Result<Vec<[f64; 3]>, GpuError> {
+        let Some(sorted) = &self.sorted else {
+            return Ok(Vec::new());
+        };
+        if sorted.order.is_empty() {
+            return Ok(Vec::new());
+        }
+        let size = self.precision.size();
+        let bytes = (sorted.records.len() * size) as u64;
+        let read = read_back(
+            &self.device,
+            &self.queue,
+            &self.buffers.markers,
+            &[(0, bytes)],
+            &self.buffers.readback,
+        )?;
+        let mut records = vec![0.0; sorted.records.len()];
+        self.precision.read(&read, &mut records);
+        let given = sorted.given(&records);
+        self.queue.write_buffer(
+            &self.buffers.markers,
+            0,
+            &self.precision.bytes(&sorted.records),
+        );
+        Ok(given)
+    }
 }
 
 /// The component whose velocity array starts at `u`.
@@ -531,6 +718,7 @@ fn source(precision: Precision, b: &FlowBox, mem: &Memory) -> String {
     );
     h += &format!("const SINGULAR: bool = {};\n", b.singular());
     h += &format!("const COARSEST_SWEEPS: u32 = {COARSEST_SWEEPS}u;\n");
+    h += &format!("const MARKER: u32 = {MARKER}u;\n");
     for (name, at) in slot::NAMED {
         h += &format!("const {name}: u32 = {at}u;\n");
     }
@@ -548,6 +736,16 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         },
         count: None,
     };
+    let blocks = wgpu::BindGroupLayoutEntry {
+        binding: 5,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
     let op = wgpu::BindGroupLayoutEntry {
         binding: 3,
         visibility: wgpu::ShaderStages::COMPUTE,
@@ -560,7 +758,7 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     };
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("flow"),
-        entries: &[storage(0), storage(1), storage(2), op],
+        entries: &[storage(0), storage(1), storage(2), op, storage(4), blocks],
     })
 }
 
@@ -582,6 +780,8 @@ fn bind_group(
             whole(0, &b.f),
             whole(1, &b.s),
             whole(2, &b.part),
+            whole(4, &b.markers),
+            whole(5, &b.blocks),
             wgpu::BindGroupEntry {
                 binding: 3,
                 resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
@@ -622,7 +822,7 @@ fn pipelines(
             })
         })
         .collect();
-    debug_assert_eq!(KERNELS.len(), Kernel::Courant as usize + 1);
+    debug_assert_eq!(KERNELS.len(), Kernel::Spread as usize + 1);
     match pollster::block_on(device.pop_error_scope()) {
         Some(e) => Err(GpuError::Kernel(e.to_string())),
         None => Ok(made),

@@ -18,10 +18,12 @@
 //! with `device = "gpu"`).
 
 mod flow;
+mod markers;
 mod memory;
 mod plan;
 mod spec;
 
-pub use flow::{Flow, FlowError, History, Report, TOLERANCE};
+pub use flow::{given, Flow, FlowError, History, Moving, Report, TOLERANCE};
 pub use gpu_device::{Gpu, GpuError, Precision};
+pub use markers::{Law, Marker};
 pub use spec::{FlowBox, Side, GHOSTS};

@@ -139,7 +139,18 @@ pub(crate) mod slot {
     pub const INV_H2: usize = 17;
     /// The given velocity of side (axis a, high) at 3(2a + high).
     pub const SIDE_U: usize = 20;
-    pub const LEVEL_H2: usize = 38;
+    /// The fluid's density [kg/m³], the markers' spacing h (the geometric
+    /// mean across the flow's axes) and a cell's volume, for the forcing.
+    pub const RHO: usize = 38;
+    pub const SPACING: usize = 39;
+    pub const CELL: usize = 40;
+    /// The sides' given velocities after the step's change (they differ
+    /// from SIDE_U's in a box that follows the parachute), the box's
+    /// velocity over the ground then and its change over the step.
+    pub const SIDE_END: usize = 41;
+    pub const FRAME: usize = 59;
+    pub const DV: usize = 62;
+    pub const LEVEL_H2: usize = 65;
     /// Slots a solve's block holds (flow.wgsl's DONE … SCALE).
     pub const BLOCK: usize = 16;
     pub const DONE: usize = 0;
@@ -157,7 +168,7 @@ pub(crate) mod slot {
     pub const SCALE: usize = 13;
 
     /// The named constants the kernels read, as (name, slot).
-    pub const NAMED: [(&str, usize); 19] = [
+    pub const NAMED: [(&str, usize); 25] = [
         ("DT", DT),
         ("AB0", AB0),
         ("AB1", AB1),
@@ -176,6 +187,12 @@ pub(crate) mod slot {
         ("INV_H2", INV_H2),
         ("SIDE_U", SIDE_U),
         ("LEVEL_H2", LEVEL_H2),
+        ("RHO", RHO),
+        ("SPACING", SPACING),
+        ("CELL", CELL),
+        ("SIDE_END", SIDE_END),
+        ("FRAME", FRAME),
+        ("DV", DV),
         ("BLOCK", BLOCK),
     ];
 }

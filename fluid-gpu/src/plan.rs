@@ -34,9 +34,12 @@ pub(crate) enum Kernel {
     Gradient,
     PressureUpdate,
     Courant,
+    Interpolate,
+    Pushes,
+    Spread,
 }
 
-pub(crate) const KERNELS: [&str; 18] = [
+pub(crate) const KERNELS: [&str; 21] = [
     "ghosts",
     "rhs",
     "helm_residual",
@@ -55,11 +58,29 @@ pub(crate) const KERNELS: [&str; 18] = [
     "gradient",
     "pressure_update",
     "courant",
+    "interpolate",
+    "pushes",
+    "spread",
 ];
+
+/// Threads a workgroup of `spread` (flow.wgsl): a thread a block.
+pub(crate) const SPREAD_WORKGROUP: u32 = 64;
+
+/// Forcing passes a step (fluid-proc's FORCING_PASSES, and the porous
+/// sheets' one before them).
+pub(crate) const FORCING_PASSES: usize = 1 + 4;
+
+/// Colours a block may have (3 along each axis).
+const COLOURS: usize = 27;
+
+/// Records the forcing's passes may take: each pass's interpolation,
+/// pushes and a spread per colour.
+pub(crate) const FORCING_RECORDS: usize = FORCING_PASSES * (2 + COLOURS);
 
 /// One dispatch: its kernel, its `Op` record and its workgroups.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Pass {
+    // (kernel, record, workgroups)
     pub kernel: Kernel,
     pub op: u32,
     pub groups: (u32, u32),
@@ -67,22 +88,22 @@ pub(crate) struct Pass {
 
 /// An `Op` record (flow.wgsl), field for field.
 #[derive(Debug, Clone, Copy, Default)]
-struct Rec {
-    o: [usize; 4],
-    lo: [usize; 3],
-    kind: u32,
-    e: [usize; 3],
-    comp: usize,
-    s: [usize; 3],
-    aux: usize,
-    slot: usize,
-    solve: usize,
-    guard: u32,
-    count: usize,
+pub(crate) struct Rec {
+    pub o: [usize; 4],
+    pub lo: [usize; 3],
+    pub kind: u32,
+    pub e: [usize; 3],
+    pub comp: usize,
+    pub s: [usize; 3],
+    pub aux: usize,
+    pub slot: usize,
+    pub solve: usize,
+    pub guard: u32,
+    pub count: usize,
 }
 
 impl Rec {
-    fn words(&self) -> [u32; 20] {
+    pub fn words(&self) -> [u32; 20] {
         let w = |x: usize| x as u32;
         [
             w(self.o[0]),
@@ -141,6 +162,10 @@ pub(crate) struct Plan {
     /// The step's start, by the parity of the slot Nⁿ goes to.
     pub start: [Vec<Pass>; 2],
     pub viscous_iteration: Vec<Pass>,
+    /// u* = uⁿ + δ with its sides.
+    pub change: Vec<Pass>,
+    /// The sides again, after the forcing.
+    pub impose: Vec<Pass>,
     pub projection: Vec<Pass>,
     pub pressure_iteration: Vec<Pass>,
     pub end: Vec<Pass>,
@@ -148,6 +173,9 @@ pub(crate) struct Plan {
     pub measure: Vec<Pass>,
     /// Most partial sums a reduction writes.
     pub partials: usize,
+    /// The first of the FORCING_RECORDS records the markers' passes take
+    /// (written when the markers are, `flow.rs`).
+    pub forcing: usize,
 }
 
 struct Builder<'a> {
@@ -167,20 +195,31 @@ impl Plan {
         };
         let start = [0, 1].map(|parity| x.start(parity));
         let viscous_iteration = x.viscous_iteration();
+        let change = x.change();
+        let mut impose = Vec::new();
+        for (c, a) in x.active() {
+            x.ghosts_from(&mut impose, c, a.u, false, slot::SIDE_END, NONE);
+        }
         let projection = x.projection();
         let pressure_iteration = x.pressure_iteration();
         let end = x.end();
         let mut measure = Vec::new();
         x.courant(&mut measure);
+        let forcing = x.records.len();
+        x.records
+            .extend(std::iter::repeat_n([0; 20], FORCING_RECORDS));
         Plan {
             records: x.records,
             start,
             viscous_iteration,
+            change,
+            impose,
             projection,
             pressure_iteration,
             end,
             measure,
             partials: x.partials,
+            forcing,
         }
     }
 }
@@ -242,8 +281,22 @@ impl Builder<'_> {
         }
     }
 
-    /// The ghosts of component c's array at `off` along every axis.
+    /// The ghosts of component c's array at `off` along every axis, the
+    /// sides' velocities at the step's start.
     fn ghosts(&mut self, list: &mut Vec<Pass>, c: usize, off: usize, homogeneous: bool, g: Guard) {
+        self.ghosts_from(list, c, off, homogeneous, slot::SIDE_U, g);
+    }
+
+    /// [`Builder::ghosts`] with the sides' velocities from `sides` on.
+    fn ghosts_from(
+        &mut self,
+        list: &mut Vec<Pass>,
+        c: usize,
+        off: usize,
+        homogeneous: bool,
+        sides: usize,
+        g: Guard,
+    ) {
         let dims = self.b.dims(c);
         for a in (0..3).filter(|&a| self.b.ghosts()[a] > 0) {
             let rec = Rec {
@@ -251,6 +304,7 @@ impl Builder<'_> {
                 comp: c,
                 aux: a,
                 kind: homogeneous as u32,
+                slot: sides,
                 count: dims[(a + 1) % 3] * dims[(a + 2) % 3],
                 ..Rec::default()
             };
@@ -441,23 +495,29 @@ impl Builder<'_> {
         list
     }
 
-    /// u* = uⁿ + δ with its sides, −∇·u*/Δt, and the pressure solve's
-    /// first residual and direction.
-    fn projection(&mut self) -> Vec<Pass> {
+    /// u* = uⁿ + δ − Δv with its sides at the step's end.
+    fn change(&mut self) -> Vec<Pass> {
         let mut list = Vec::new();
         for (c, a) in self.active() {
             let unknown = self.faces(c, true);
-            self.lin(
-                &mut list,
-                unknown,
-                a.u,
-                Some(a.u),
-                (false, slot::ONE),
-                a.delta,
-                NONE,
-            );
-            self.ghosts(&mut list, c, a.u, false, NONE);
+            let one = (false, slot::ONE);
+            self.lin(&mut list, unknown, a.u, Some(a.u), one, a.delta, NONE);
+            // A box that follows the parachute: the air takes the frame's
+            // body force −a·Δt (fluid-proc's frame.rs).
+            let rec = Rec {
+                o: [a.u, 0, 0, 0],
+                slot: slot::DV + c,
+                ..unknown
+            };
+            self.push(&mut list, Kernel::Shift, rec, NONE);
+            self.ghosts_from(&mut list, c, a.u, false, slot::SIDE_END, NONE);
         }
+        list
+    }
+
+    /// −∇·u*/Δt, and the pressure solve's first residual and direction.
+    fn projection(&mut self) -> Vec<Pass> {
+        let mut list = Vec::new();
         let m = self.mem.clone();
         let cells = Rec::flat(self.b.cells());
         let g = self.pressure();

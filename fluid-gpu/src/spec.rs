@@ -41,6 +41,8 @@ pub struct FlowBox {
     pub sides: [[Side; 2]; 3],
     /// Kinematic viscosity ν [m²/s].
     pub nu: f64,
+    /// Density ρ [kg/m³] (the porous fabric's drag on the air).
+    pub density: f64,
 }
 
 /// The coarsest multigrid level has at most this many cells (fluid-proc's
@@ -101,6 +103,19 @@ impl FlowBox {
     /// has an even count of at least 4 cells (2 where periodic), as
     /// fluid-proc's `Grid::coarse_plans` does on a uniform box, until it
     /// has at most 64 cells or no axis halves. Cells and spacings.
+    /// The markers' spacing h: the geometric mean of the spacings across
+    /// the flow's axes (fluid-proc's immersed.rs: ΔV_k = ΔA_k·h).
+    pub(crate) fn spacing(&self) -> f64 {
+        let active: Vec<f64> = (0..3)
+            .filter(|&d| self.n[d] > 1)
+            .map(|d| self.h[d])
+            .collect();
+        active
+            .iter()
+            .product::<f64>()
+            .powf(1.0 / active.len() as f64)
+    }
+
     pub(crate) fn levels(&self) -> Vec<([usize; 3], [f64; 3])> {
         let mut levels = vec![(self.n, self.h)];
         loop {

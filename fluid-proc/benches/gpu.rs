@@ -41,7 +41,10 @@ fn time_steps(n: usize, gpu: Option<&Gpu>, warm: usize, timed: usize) -> Result<
     let mut iterations = 0;
     let clock = Instant::now();
     for _ in 0..timed {
-        iterations += flow.step(dt).map_err(|e| e.to_string())?.pressure_iterations;
+        iterations += flow
+            .step(dt)
+            .map_err(|e| e.to_string())?
+            .pressure_iterations;
     }
     let t = timed as f64;
     Ok([clock.elapsed().as_secs_f64() / t, iterations as f64 / t])
@@ -57,7 +60,11 @@ fn main() {
     };
     let sizes: Vec<usize> = std::env::var("CANOPY_BENCH_CELLS")
         .ok()
-        .map(|s| s.split_whitespace().filter_map(|x| x.parse().ok()).collect())
+        .map(|s| {
+            s.split_whitespace()
+                .filter_map(|x| x.parse().ok())
+                .collect()
+        })
         .unwrap_or(vec![64, 128, 256]);
     println!(
         "One flow step of the lid-driven cube (Courant number 0.4 at the lid), two CPU threads \
@@ -67,7 +74,10 @@ fn main() {
     );
     println!("| cells | 2 threads ms | pressure iterations | GPU ms | pressure iterations | 2 threads / GPU |");
     println!("|---|---|---|---|---|---|");
-    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a pool");
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .expect("a pool");
     for n in sizes {
         let (warm, timed) = if n >= 128 { (1, 3) } else { (3, 10) };
         let device = time_steps(n, Some(&gpu), warm + 2, timed);

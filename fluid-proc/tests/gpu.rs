@@ -185,3 +185,131 @@ fn a_channel_with_an_outflow_on_the_device_is_the_cpu_flow() {
     assert!(du < 1e-7 && dq < 1e-6, "device − CPU: u {du:e}, q {dq:e}");
     eprintln!("channel: device − CPU: u {du:e}, q {dq:e}");
 }
+
+/// Steps both flows with their bodies `steps` times by `dt`, comparing
+/// each body's load [N] as it is taken after every step: within 10⁻⁸ of
+/// the largest (the forcing's sums run in another order on the device).
+fn run_both_with_loads(cpu: &mut Incompressible, gpu: &mut Incompressible, dt: f64, steps: usize) {
+    for k in 0..steps {
+        run_both(cpu, gpu, dt, 1);
+        for (a, b) in cpu.bodies.iter_mut().zip(&mut gpu.bodies) {
+            let (fa, fb) = (a.take_load(1.0).0, b.take_load(1.0).0);
+            let scale = fa.iter().fold(1e-12f64, |m, f| m.max(f.abs()));
+            for d in 0..3 {
+                assert!(
+                    (fa[d] - fb[d]).abs() <= 1e-8 * scale,
+                    "step {k}: load {fa:?} on the CPU, {fb:?} on the device"
+                );
+            }
+        }
+    }
+}
+
+/// A sphere (radius 0.3 m) held in a stream of 1 m/s through a box of
+/// 24 × 12 × 12 cells of 0.1 m, its surface's markers forcing the air
+/// (immersed.rs, 5 passes a step): 20 steps, the device's field within
+/// 10⁻⁸ m/s of the CPU's and its drag the CPU's within 10⁻⁸ of itself;
+/// then the same in a box that follows a target, starting at 0.3 m/s
+/// along the stream and accelerating to 0.5 m/s (frame.rs).
+#[test]
+fn a_sphere_in_a_stream_on_the_device_is_the_cpu_flow() {
+    sphere_in_a_stream(false);
+    sphere_in_a_stream(true);
+}
+
+fn sphere_in_a_stream(following: bool) {
+    use exchange::Shape;
+    use fluid_proc::incompressible::immersed::{place_markers, ImmersedBody};
+    use fluid_proc::surface::Surface;
+    let Some(gpu) = device() else { return };
+    let mut sides = [[Side::WALL; 2]; 3];
+    sides[0] = [Side::Velocity([1.0, 0.0, 0.0]), Side::Outflow];
+    sides[1] = [Side::Periodic; 2];
+    let (n, h) = ([24, 12, 12], 0.1);
+    let make = || {
+        let mut f = flow(n, h, sides, 1e-3);
+        f.u.u[0].fill(1.0);
+        f.impose_sides();
+        let surface = Surface::of(&Shape::sphere(0.3), h);
+        let pose = nalgebra::Isometry3::translation(0.8, 0.6, 0.6);
+        let (markers, volume) = place_markers(&surface, &pose, f.grid(), [0.0; 3]);
+        let mut body = ImmersedBody::default();
+        body.place(markers, [0.8, 0.6, 0.6], [0.0; 3], [0.0; 3], volume);
+        f.bodies.push(body);
+        if following {
+            f.start_following([0.3, 0.0, 0.0]);
+        }
+        f
+    };
+    let (mut cpu, mut dev) = (make(), make());
+    dev.to_device(&gpu).unwrap();
+    let dt = 0.25 * h;
+    for _ in 0..20 {
+        if following {
+            cpu.aim_frame([0.5, 0.0, 0.0], 10.0 * dt);
+            dev.aim_frame([0.5, 0.0, 0.0], 10.0 * dt);
+        }
+        run_both_with_loads(&mut cpu, &mut dev, dt, 1);
+    }
+    let (du, dq) = difference(&cpu, &dev);
+    eprintln!("sphere (following: {following}): device − CPU: u {du:e}, q {dq:e}");
+    if following {
+        assert!(cpu.frame_velocity()[0] > 0.3, "the box accelerates");
+    }
+    assert!(du < 1e-8 && dq < 1e-6, "device − CPU: u {du:e}, q {dq:e}");
+}
+
+/// A porous sheet and a closed one across a periodic updraft of 1.8 m/s
+/// (sheet-updraft's fabric, Δp = 0.134w + 0.107w² Pa): a square grid of
+/// markers at mid-height of a box of 8 × 8 × 32 cells, the porous one
+/// pushing the air through the fabric's drag, the closed one holding its
+/// normal velocity to zero: 20 steps each, the device's field within 10⁻⁸
+/// m/s of the CPU's.
+#[test]
+fn porous_and_closed_sheets_on_the_device_are_the_cpu_flows() {
+    use fluid_proc::incompressible::immersed::ImmersedBody;
+    use fluid_proc::surface::Marker;
+    let Some(gpu) = device() else { return };
+    let mut sides = [[Side::Periodic; 2]; 3];
+    sides[2] = [Side::Velocity([0.0, 0.0, 1.8]), Side::Outflow];
+    let (n, h) = ([8, 8, 32], 0.125);
+    for porous in [Some([0.134, 0.107]), None] {
+        let make = || {
+            let mut f = flow(n, h, sides, 1.5e-5);
+            f.u.u[2].fill(1.8);
+            f.impose_sides();
+            let (mut markers, mut targets) = (Vec::new(), Vec::new());
+            let k = 16;
+            for i in 0..k {
+                for j in 0..k {
+                    let x = [
+                        (i as f64 + 0.5) / k as f64,
+                        (j as f64 + 0.5) / k as f64,
+                        1.5,
+                    ];
+                    let area = 1.0 / (k * k) as f64;
+                    markers.push(Marker {
+                        x,
+                        normal: [0.0, 0.0, 1.0],
+                        area,
+                    });
+                    targets.push([0.0; 3]);
+                }
+            }
+            let mut sheet = ImmersedBody::default();
+            sheet.porous = porous;
+            sheet.place_sheet(markers, targets);
+            f.canopy = Some(sheet);
+            f
+        };
+        let (mut cpu, mut dev) = (make(), make());
+        dev.to_device(&gpu).unwrap();
+        run_both(&mut cpu, &mut dev, 0.01, 20);
+        let (du, dq) = difference(&cpu, &dev);
+        eprintln!("sheet {porous:?}: device − CPU: u {du:e}, q {dq:e}");
+        assert!(
+            du < 1e-8 && dq < 1e-6,
+            "{porous:?}: device − CPU: u {du:e}, q {dq:e}"
+        );
+    }
+}

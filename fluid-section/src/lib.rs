@@ -90,7 +90,8 @@ pub enum Device {
     Cpu,
     /// The first GPU adapter wgpu finds (the fluid-gpu crate), the state
     /// kept there from step to step: a uniform box on one rank, its sides
-    /// walls, given velocities, outflows or periodic, nothing in the flow.
+    /// walls, given velocities, outflows or periodic, with the canopy and
+    /// the bodies in it.
     Gpu,
 }
 
@@ -306,9 +307,6 @@ impl FluidSection {
             .is_some_and(|s| s.iter().flatten().any(parabolic))
         {
             refuse("a parabolic side");
-        }
-        if self.frame.is_some() {
-            refuse("a box that follows the parachute ([fluid.frame])");
         }
     }
 

@@ -93,7 +93,7 @@ fn check_partners(
             && rigid.is_some_and(|r| r.bodies.iter().any(|b| b.shape.is_some()));
         check_ranks(c, s, ranks, walls);
     }
-    check_device(c, s, listed("structure"), ranks, rigid);
+    check_device(c, s, ranks);
     let frame = check_frame(c, scenario, s, rigid);
     let window = scenario.coupling.window;
     let courant = s.start_courant(window, frame).unwrap_or(0.0);
@@ -109,31 +109,14 @@ fn check_partners(
     }
 }
 
-/// What `device = "gpu"` does not run yet among the partners: a canopy or
-/// bodies in the flow, ranks.
-fn check_device(
-    c: &mut Checker,
-    s: &FluidSection,
-    structure: bool,
-    ranks: u32,
-    rigid: Option<&RigidSection>,
-) {
-    if s.device != crate::Device::Gpu {
-        return;
-    }
-    let shaped = rigid.is_some_and(|r| r.bodies.iter().any(|b| b.shape.is_some()));
-    let what = [
-        (
-            structure,
-            "a canopy in the flow (a participant `structure`)",
-        ),
-        (shaped, "bodies in the flow (a [[rigid.bodies]] shape)"),
-        (ranks > 1, "the flow on several ranks"),
-    ];
-    for (_, what) in what.iter().filter(|(on, _)| *on) {
+/// What `device = "gpu"` does not run yet among the partners: the flow
+/// on several ranks.
+fn check_device(c: &mut Checker, s: &FluidSection, ranks: u32) {
+    if s.device == crate::Device::Gpu && ranks > 1 {
         c.problem(
             &["fluid", "device"],
-            format!("device = \"gpu\" does not run {what} yet: use device = \"cpu\""),
+            "device = \"gpu\" does not run the flow on several ranks yet: use device = \"cpu\""
+                .into(),
         );
     }
 }

@@ -7,21 +7,25 @@
 //! sets the state on the host, sends it up again before the next step.
 //!
 //! The device covers a uniform box on one rank with sides of given
-//! velocity, outflow or periodic, and no bodies or canopy in the flow: what
-//! it does not cover, fluid-section's check refuses with `device = "gpu"`,
-//! and [`device_box`] says why here.
+//! velocity, outflow or periodic, with the bodies and the canopy in it
+//! (their markers sent when they move, what the forcing gave the fluid
+//! brought back with u and q): what it does not cover, fluid-section's
+//! check refuses with `device = "gpu"`, and [`device_box`] says why here.
 
 use crate::incompressible::checkpoint::History;
+use crate::incompressible::immersed::ImmersedBody;
 use crate::incompressible::setup::flow_from;
 use crate::incompressible::side::Side;
 use crate::incompressible::{FlowError, Incompressible, StepReport};
-use fluid_gpu::{Flow, FlowBox, Gpu};
+use fluid_gpu::{Flow, FlowBox, Gpu, Law, Marker, Moving};
 use fluid_section::flow::MAX_COURANT;
 use fluid_section::FluidSection;
 
 /// The flow on the device, and whether it holds the current state.
 pub(crate) struct OnDevice {
     flow: Flow,
+    /// The markers the device forces the air at, as last sent.
+    markers: Vec<Marker>,
     /// The device holds the current state (else the host does).
     current: bool,
     /// The host's `u` and `q` are older than the device's.
@@ -57,6 +61,7 @@ pub fn device_box(flow: &Incompressible) -> Result<FlowBox, String> {
         h: [0, 1, 2].map(|d| g.axes[d].width(0)),
         sides,
         nu: flow.setup.nu,
+        density: flow.setup.density,
     })
 }
 
@@ -75,6 +80,7 @@ impl Incompressible {
         let flow = Flow::new(gpu, &spec).map_err(|e| e.to_string())?;
         self.device = Some(OnDevice {
             flow,
+            markers: Vec::new(),
             current: false,
             host_stale: false,
         });
@@ -112,18 +118,6 @@ impl Incompressible {
 
     /// [`Incompressible::step_in_window`] on the device.
     pub(crate) fn step_on_device(&mut self, dt: f64) -> Result<StepReport, FlowError> {
-        if self
-            .bodies
-            .iter()
-            .chain(&self.canopy)
-            .any(|b| !b.markers.is_empty())
-            || self.frame.is_some()
-        {
-            return Err(FlowError::Device(
-                "the device does not run bodies, a canopy or a following frame in the flow yet"
-                    .into(),
-            ));
-        }
         if !self.device.as_ref().is_some_and(|d| d.current) {
             let mut history = History::default();
             self.save_history(&mut history);
@@ -137,7 +131,12 @@ impl Incompressible {
             d.flow.upload(&self.u.u, &self.q, Some(&h)).map_err(gpu)?;
             d.current = true;
         }
+        let markers = self.device_markers();
         let d = self.device.as_mut().expect("a device");
+        if markers != d.markers {
+            d.flow.set_markers(&markers).map_err(gpu)?;
+            d.markers = markers;
+        }
         let courant = d.flow.courant(dt);
         if !courant.is_finite() {
             return Err(FlowError::NonFinite);
@@ -146,11 +145,25 @@ impl Incompressible {
             return Err(FlowError::Courant(courant));
         }
         let clock = std::time::Instant::now();
-        let report = d.flow.step(dt).map_err(|e| match e {
+        // A box that follows the parachute moves over the step: the sides
+        // as seen from it at the step's start and end (`frame.rs`).
+        let sides = given(&self.sides);
+        let dv = self.move_frame(dt);
+        let moving = Moving {
+            sides,
+            sides_end: given(&self.sides),
+            frame: self.frame_velocity(),
+            dv,
+        };
+        let d = self.device.as_mut().expect("a device");
+        let report = d.flow.step_moving(dt, &moving).map_err(|e| match e {
             fluid_gpu::FlowError::NonFinite => FlowError::NonFinite,
             e => FlowError::Device(e.to_string()),
         })?;
         d.host_stale = true;
+        for body in self.forced() {
+            body.forced_for(dt);
+        }
         self.last_dt = Some(dt);
         self.time += dt;
         Ok(StepReport {
@@ -171,8 +184,59 @@ impl Incompressible {
         };
         d.flow.download(&mut self.u.u, &mut self.q).map_err(gpu)?;
         d.host_stale = false;
+        let given = d.flow.take_given().map_err(gpu)?;
+        let grid = self.setup.grid.clone();
+        let mut given = given.into_iter();
+        for body in self.forced() {
+            for k in 0..body.markers.len() {
+                let push = given.next().unwrap_or_default();
+                let x = body.markers[k].x;
+                body.record(&grid, x, push);
+            }
+        }
         Ok(())
     }
+
+    /// The bodies with markers, then the canopy: the ones the forcing
+    /// holds the air at, in `immersed::force`'s order.
+    fn forced(&mut self) -> impl Iterator<Item = &mut ImmersedBody> {
+        self.bodies
+            .iter_mut()
+            .chain(self.canopy.as_mut())
+            .filter(|b| !b.markers.is_empty())
+    }
+
+    /// The forced bodies' markers as the device takes them.
+    fn device_markers(&mut self) -> Vec<Marker> {
+        let mut out = Vec::new();
+        for b in self.forced() {
+            let law = match (b.porous, b.is_sheet()) {
+                (Some(ab), _) => Law::Porous(ab),
+                (None, true) => Law::Sheet,
+                (None, false) => Law::Body,
+            };
+            for (m, &target) in b.markers.iter().zip(&b.targets) {
+                out.push(Marker {
+                    x: m.x,
+                    normal: m.normal,
+                    area: m.area,
+                    target,
+                    law,
+                });
+            }
+        }
+        out
+    }
+}
+
+/// The given velocities of `sides` as the device takes them.
+fn given(sides: &crate::incompressible::side::Sides) -> [[[f64; 3]; 2]; 3] {
+    sides.map(|pair| {
+        pair.map(|s| match s {
+            Side::Velocity(v) => v,
+            _ => [0.0; 3],
+        })
+    })
 }
 
 fn gpu(e: fluid_gpu::GpuError) -> FlowError {

@@ -146,6 +146,17 @@ impl ImmersedBody {
         self.sheet = true;
     }
 
+    /// Whether the body is an open sheet (`place_sheet`).
+    pub fn is_sheet(&self) -> bool {
+        self.sheet
+    }
+
+    /// Notes a step of `dt` [s] of forcing (the device's `force`, whose
+    /// pushes come back at the window's end, `device.rs`).
+    pub(crate) fn forced_for(&mut self, dt: f64) {
+        self.duration += dt;
+    }
+
     /// The body's velocity at point x: U + ω × (x − c) [m/s].
     pub fn velocity_at(&self, x: [f64; 3]) -> [f64; 3] {
         let r = [0, 1, 2].map(|d| x[d] - self.centre[d]);
@@ -405,7 +416,7 @@ fn air_at(
 impl ImmersedBody {
     /// Notes momentum per unit density `push` [m⁴/s] given to the fluid at
     /// x, and its moment about the centre.
-    fn record(&mut self, grid: &Grid, x: [f64; 3], push: [f64; 3]) {
+    pub(crate) fn record(&mut self, grid: &Grid, x: [f64; 3], push: [f64; 3]) {
         // Along a 2-D flow's thin axis nothing varies, so the forcing there
         // has no moment arm.
         let r = [0, 1, 2].map(|d| match grid.n[d] {
