@@ -115,6 +115,10 @@ enum BenchCmd {
         /// FronTier++'s C-9 input.
         #[arg(long, default_value = "../shared/peers/frontier/in-C9")]
         frontier_input: PathBuf,
+        /// "gpu": the scene on the CPU and with both solvers on the GPU
+        /// (issue 47), instead of the three CPU variants.
+        #[arg(long, default_value = "cpu", value_parser = ["cpu", "gpu"])]
+        device: String,
     },
 }
 
@@ -207,10 +211,11 @@ fn main() {
                     windows,
                     frontier,
                     frontier_input,
+                    device,
                 },
         } => {
             let peer = frontier.as_deref().map(|f| (f, frontier_input.as_path()));
-            launcher::bench::parachute(&scene, windows.max(1), peer)
+            launcher::bench::parachute(&scene, windows.max(1), peer, device == "gpu")
         }
         Cmd::Study { args } => launcher::study::study(&args),
         Cmd::BenchPeer { peer } => match peer {

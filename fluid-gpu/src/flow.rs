@@ -78,8 +78,51 @@ pub struct History {
     pub delta: Vec<Vec<f64>>,
 }
 
+/// The arrays split into bindings of at most an adapter's binding size:
+/// entry i lies in binding k where `ends[k − 1] ≤ i < ends[k]`
+/// (flow.wgsl's SEG1, SEG2, SEG3).
+#[derive(Debug, Clone, Copy)]
+struct Segments {
+    ends: [usize; SEGMENTS],
+}
+
+/// Bindings the arrays may take (flow.wgsl's f0 … f3).
+const SEGMENTS: usize = 4;
+
+impl Segments {
+    /// `len` reals in bindings of at most `most` reals each.
+    fn of(len: usize, most: usize) -> Option<Segments> {
+        let ends = std::array::from_fn(|k| (most * (k + 1)).min(len));
+        (ends[SEGMENTS - 1] == len).then_some(Segments { ends })
+    }
+
+    fn start(&self, k: usize) -> usize {
+        if k == 0 {
+            0
+        } else {
+            self.ends[k - 1]
+        }
+    }
+
+    fn len(&self, k: usize) -> usize {
+        self.ends[k] - self.start(k)
+    }
+
+    /// The pieces (binding, first within it, length) of entries [first, first + len).
+    fn pieces(&self, first: usize, len: usize) -> Vec<(usize, usize, usize)> {
+        let end = first + len;
+        (0..SEGMENTS)
+            .filter_map(|k| {
+                let (lo, hi) = (first.max(self.start(k)), end.min(self.ends[k]));
+                (lo < hi).then(|| (k, lo - self.start(k), hi - lo))
+            })
+            .collect()
+    }
+}
+
 struct Buffers {
-    f: wgpu::Buffer,
+    /// The arrays, in up to SEGMENTS bindings.
+    f: Vec<wgpu::Buffer>,
     s: wgpu::Buffer,
     part: wgpu::Buffer,
     ops: wgpu::Buffer,
@@ -99,6 +142,7 @@ pub struct Flow {
     plan: Plan,
     pipelines: Vec<wgpu::ComputePipeline>,
     buffers: Buffers,
+    segments: Segments,
     layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
     op_stride: u32,
@@ -119,13 +163,19 @@ pub struct Flow {
 impl Flow {
     /// The flow on `spec`'s box, at rest, on `gpu`.
     pub fn new(gpu: &Gpu, spec: &FlowBox) -> Result<Flow, GpuError> {
+        Flow::binding_at_most(gpu, spec, u64::MAX)
+    }
+
+    /// [`Flow::new`], the arrays split as if the adapter bound at most
+    /// `bytes` a binding (the tests split a small box so).
+    pub fn binding_at_most(gpu: &Gpu, spec: &FlowBox, bytes: u64) -> Result<Flow, GpuError> {
         if let Some(why) = spec.refused() {
             return Err(GpuError::Kernel(format!("the box: {why}")));
         }
         let device = gpu.device();
         device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let made = Flow::make(gpu, spec);
+        let made = Flow::make(gpu, spec, bytes);
         for _ in 0..2 {
             if let Some(e) = pollster::block_on(device.pop_error_scope()) {
                 return Err(GpuError::Kernel(e.to_string()));
@@ -137,13 +187,22 @@ impl Flow {
         Ok(flow)
     }
 
-    fn make(gpu: &Gpu, spec: &FlowBox) -> Result<Flow, GpuError> {
+    fn make(gpu: &Gpu, spec: &FlowBox, most: u64) -> Result<Flow, GpuError> {
         let device = gpu.device().clone();
         let precision = gpu.precision();
         let mem = Memory::of(spec);
         let plan = Plan::of(spec, &mem);
         let size = precision.size() as u64;
-        check_size(&device, "the flow's arrays", mem.len as u64 * size)?;
+        let limits = device.limits();
+        let binds = (limits.max_storage_buffer_binding_size as u64)
+            .min(limits.max_buffer_size)
+            .min(most);
+        let segments =
+            Segments::of(mem.len, (binds / size) as usize).ok_or(GpuError::TooLarge {
+                what: "the flow's arrays (in four bindings)",
+                needed: mem.len as u64 * size,
+                limit: SEGMENTS as u64 * binds,
+            })?;
         let op_stride = (RECORD_BYTES as u32)
             .next_multiple_of(device.limits().min_uniform_buffer_offset_alignment);
         let storage = wgpu::BufferUsages::STORAGE;
@@ -155,7 +214,9 @@ impl Flow {
         let most = (0..3).map(|c| spec.padded_len(c)).sum::<usize>() * 2 + spec.cells();
         let readback_bytes = (most.max(slots(levels)) as u64) * size;
         let buffers = Buffers {
-            f: buffer(&device, "flow", &zeros(mem.len), copied),
+            f: (0..SEGMENTS)
+                .map(|k| buffer(&device, "flow", &zeros(segments.len(k)), copied))
+                .collect(),
             s: buffer(&device, "scalars", &zeros(slots(levels)), copied),
             part: buffer(&device, "partial sums", &zeros(plan.partials), storage),
             ops: buffer(
@@ -174,7 +235,7 @@ impl Flow {
             }),
         };
         let layout = bind_group_layout(&device);
-        let pipelines = pipelines(&device, &layout, &source(precision, spec, &mem))?;
+        let pipelines = pipelines(&device, &layout, &source(precision, spec, &mem, &segments))?;
         let bind_group = bind_group(&device, &layout, &buffers);
         Ok(Flow {
             device,
@@ -185,6 +246,7 @@ impl Flow {
             plan,
             pipelines,
             buffers,
+            segments,
             layout,
             bind_group,
             op_stride,
@@ -237,9 +299,14 @@ impl Flow {
     }
 
     fn write_array(&self, first: usize, values: &[f64]) {
-        let at = (first * self.precision.size()) as u64;
-        let bytes = self.precision.bytes(values);
-        self.queue.write_buffer(&self.buffers.f, at, &bytes);
+        let size = self.precision.size();
+        let mut from = 0;
+        for (k, at, len) in self.segments.pieces(first, values.len()) {
+            let bytes = self.precision.bytes(&values[from..from + len]);
+            self.queue
+                .write_buffer(&self.buffers.f[k], (at * size) as u64, &bytes);
+            from += len;
+        }
     }
 
     /// Sets the state: the face velocities `u[d]` as fluid-proc's `Faces`
@@ -354,17 +421,13 @@ impl Flow {
     /// The arrays (first, len) of `f`, read at once.
     fn read_arrays(&self, ranges: &[(usize, usize)]) -> Result<Vec<Vec<f64>>, GpuError> {
         let size = self.precision.size() as u64;
-        let bytes: Vec<(u64, u64)> = ranges
+        let f = &self.buffers.f;
+        let bytes: Vec<(&wgpu::Buffer, u64, u64)> = ranges
             .iter()
-            .map(|&(first, len)| (first as u64 * size, len as u64 * size))
+            .flat_map(|&(first, len)| self.segments.pieces(first, len))
+            .map(|(k, at, len)| (&f[k], at as u64 * size, len as u64 * size))
             .collect();
-        let bytes = read_back(
-            &self.device,
-            &self.queue,
-            &self.buffers.f,
-            &bytes,
-            &self.buffers.readback,
-        )?;
+        let bytes = read_back(&self.device, &self.queue, &bytes, &self.buffers.readback)?;
         let mut out = Vec::with_capacity(ranges.len());
         let mut from = 0;
         for &(_, len) in ranges {
@@ -380,14 +443,8 @@ impl Flow {
     fn read_scalars(&self) -> Result<Vec<f64>, GpuError> {
         let len = slots(self.mem.levels.len());
         let size = self.precision.size();
-        let range = [(0, (len * size) as u64)];
-        let bytes = read_back(
-            &self.device,
-            &self.queue,
-            &self.buffers.s,
-            &range,
-            &self.buffers.readback,
-        )?;
+        let range = [(&self.buffers.s, 0, (len * size) as u64)];
+        let bytes = read_back(&self.device, &self.queue, &range, &self.buffers.readback)?;
         let mut out = vec![0.0; len];
         self.precision.read(&bytes, &mut out);
         Ok(out)
@@ -565,6 +622,14 @@ impl Flow {
         if grown {
             self.bind_group = bind_group(&self.device, &self.layout, &self.buffers);
         }
+        if (record_bytes as u64) > self.buffers.readback.size() {
+            self.buffers.readback = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback"),
+                size: record_bytes as u64,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+        }
         if !markers.is_empty() {
             self.queue
                 .write_buffer(&self.buffers.markers, 0, &p.bytes(&sorted.records));
@@ -648,13 +713,8 @@ impl Flow {
         }
         let size = self.precision.size();
         let bytes = (sorted.records.len() * size) as u64;
-        let read = read_back(
-            &self.device,
-            &self.queue,
-            &self.buffers.markers,
-            &[(0, bytes)],
-            &self.buffers.readback,
-        )?;
+        let range = [(&self.buffers.markers, 0, bytes)];
+        let read = read_back(&self.device, &self.queue, &range, &self.buffers.readback)?;
         let mut records = vec![0.0; sorted.records.len()];
         self.precision.read(&read, &mut records);
         let given = sorted.given(&records);
@@ -685,7 +745,7 @@ fn records(plan: &Plan, stride: u32) -> Vec<u8> {
 }
 
 /// The kernels' source: the box's constants, then flow.wgsl.
-fn source(precision: Precision, b: &FlowBox, mem: &Memory) -> String {
+fn source(precision: Precision, b: &FlowBox, mem: &Memory, segments: &Segments) -> String {
     let vec3 = |v: [usize; 3]| format!("vec3<u32>({}u, {}u, {}u)", v[0], v[1], v[2]);
     let mut h = format!("alias real = {};\n", precision.wgsl());
     h += &format!("const NC: vec3<u32> = {};\n", vec3(b.n));
@@ -719,6 +779,9 @@ fn source(precision: Precision, b: &FlowBox, mem: &Memory) -> String {
     h += &format!("const SINGULAR: bool = {};\n", b.singular());
     h += &format!("const COARSEST_SWEEPS: u32 = {COARSEST_SWEEPS}u;\n");
     h += &format!("const MARKER: u32 = {MARKER}u;\n");
+    for k in 0..SEGMENTS - 1 {
+        h += &format!("const SEG{}: u32 = {}u;\n", k + 1, segments.ends[k]);
+    }
     for (name, at) in slot::NAMED {
         h += &format!("const {name}: u32 = {at}u;\n");
     }
@@ -758,7 +821,17 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     };
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("flow"),
-        entries: &[storage(0), storage(1), storage(2), op, storage(4), blocks],
+        entries: &[
+            storage(0),
+            storage(1),
+            storage(2),
+            op,
+            storage(4),
+            blocks,
+            storage(6),
+            storage(7),
+            storage(8),
+        ],
     })
 }
 
@@ -777,7 +850,10 @@ fn bind_group(
         label: Some("flow"),
         layout,
         entries: &[
-            whole(0, &b.f),
+            whole(0, &b.f[0]),
+            whole(6, &b.f[1]),
+            whole(7, &b.f[2]),
+            whole(8, &b.f[3]),
             whole(1, &b.s),
             whole(2, &b.part),
             whole(4, &b.markers),

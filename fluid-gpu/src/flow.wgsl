@@ -26,7 +26,12 @@ struct Op {
     slot: u32, solve: u32, guard: u32, count: u32,
 }
 
-@group(0) @binding(0) var<storage, read_write> f: array<real>;
+// The arrays, in up to four bindings (an adapter binds a limited size
+// each): entry i of the whole lies in f0 below SEG1, in f1 below SEG2, …
+@group(0) @binding(0) var<storage, read_write> f0: array<real>;
+@group(0) @binding(6) var<storage, read_write> f1: array<real>;
+@group(0) @binding(7) var<storage, read_write> f2: array<real>;
+@group(0) @binding(8) var<storage, read_write> f3: array<real>;
 @group(0) @binding(1) var<storage, read_write> s: array<real>;
 @group(0) @binding(2) var<storage, read_write> part: array<real>;
 @group(0) @binding(3) var<uniform> op: Op;
@@ -37,6 +42,40 @@ struct Op {
 @group(0) @binding(5) var<storage, read> blocks: array<u32>;
 
 const WG: u32 = 256u;
+
+// Entry i of the arrays, and its update.
+fn rd(i: u32) -> real {
+    if i < SEG1 {
+        return f0[i];
+    }
+    if i < SEG2 {
+        return f1[i - SEG1];
+    }
+    if i < SEG3 {
+        return f2[i - SEG2];
+    }
+    return f3[i - SEG3];
+}
+
+fn wr(i: u32, v: real) {
+    if i < SEG1 {
+        f0[i] = v;
+    } else if i < SEG2 {
+        f1[i - SEG1] = v;
+    } else if i < SEG3 {
+        f2[i - SEG2] = v;
+    } else {
+        f3[i - SEG3] = v;
+    }
+}
+
+fn rdi(i: i32) -> real {
+    return rd(u32(i));
+}
+
+fn wri(i: i32, v: real) {
+    wr(u32(i), v);
+}
 // Side kinds (fluid-gpu's `Side`).
 const GIVEN: u32 = 0u;
 const OUTFLOW: u32 = 1u;
@@ -141,19 +180,19 @@ fn face_gradient(off: u32, d: u32, q: vec3<i32>) -> real {
     var hi = vec3<u32>(q);
     if k > 0 && k < n {
         lo[d] = u32(k - 1);
-        return (f[off + cell_index(NC, hi)] - f[off + cell_index(NC, lo)]) * inv_h;
+        return (rd(off + cell_index(NC, hi)) - rd(off + cell_index(NC, lo))) * inv_h;
     }
     let side = SIDE[2u * d + select(0u, 1u, k == n)];
     lo[d] = 0u;
     hi[d] = u32(n - 1);
     if side == PERIODIC {
-        return (f[off + cell_index(NC, lo)] - f[off + cell_index(NC, hi)]) * inv_h;
+        return (rd(off + cell_index(NC, lo)) - rd(off + cell_index(NC, hi))) * inv_h;
     }
     if side == OUTFLOW {
         if k == 0 {
-            return 2.0 * f[off + cell_index(NC, lo)] * inv_h;
+            return 2.0 * rd(off + cell_index(NC, lo)) * inv_h;
         }
-        return -2.0 * f[off + cell_index(NC, hi)] * inv_h;
+        return -2.0 * rd(off + cell_index(NC, hi)) * inv_h;
     }
     return 0.0;
 }
@@ -184,11 +223,11 @@ fn ghosts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if low == PERIODIC {
         let period = select(m, m - 1, normal);
         if normal {
-            f[base + last * sa] = f[base];
+            wri(base + last * sa, rdi(base));
         }
         for (var k = 1; k <= g; k++) {
-            f[base - k * sa] = f[base + (period - k) * sa];
-            f[base + (last + k) * sa] = f[base + (last - period + k) * sa];
+            wri(base - k * sa, rdi(base + (period - k) * sa));
+            wri(base + (last + k) * sa, rdi(base + (last - period + k) * sa));
         }
         return;
     }
@@ -199,18 +238,18 @@ fn ghosts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         if side == GIVEN {
             let given = select(s[op.slot + 3u * (2u * a + up) + c], 0.0, op.kind == 1u);
             if normal {
-                f[base + edge * sa] = given;
+                wri(base + edge * sa, given);
                 for (var k = 1; k <= g; k++) {
-                    f[base + (edge + dir * k) * sa] = 2.0 * given - f[base + (edge - dir * k) * sa];
+                    wri(base + (edge + dir * k) * sa, 2.0 * given - rdi(base + (edge - dir * k) * sa));
                 }
             } else {
                 for (var k = 1; k <= g; k++) {
-                    f[base + (edge + dir * k) * sa] = 2.0 * given - f[base + (edge - dir * (k - 1)) * sa];
+                    wri(base + (edge + dir * k) * sa, 2.0 * given - rdi(base + (edge - dir * (k - 1)) * sa));
                 }
             }
         } else if side == OUTFLOW {
             for (var k = 1; k <= g; k++) {
-                f[base + (edge + dir * k) * sa] = f[base + edge * sa];
+                wri(base + (edge + dir * k) * sa, rdi(base + edge * sa));
             }
         }
     }
@@ -246,18 +285,18 @@ fn flux(c: u32, a: u32, p: u32, q: vec3<i32>) -> real {
     let sa = cstride(c)[a];
     var v: real;
     if a == c {
-        v = 0.5 * (f[p] + f[p + sa]);
+        v = 0.5 * (rd(p) + rd(p + sa));
     } else {
         var r = q + unit(a);
         let hi = at(a, r);
         r[c] -= 1;
-        v = 0.5 * (f[hi] + f[at(a, r)]);
+        v = 0.5 * (rd(hi) + rd(at(a, r)));
     }
     var value: real;
     if v >= 0.0 {
-        value = weno(f[p - 2u * sa], f[p - sa], f[p], f[p + sa], f[p + 2u * sa]);
+        value = weno(rd(p - 2u * sa), rd(p - sa), rd(p), rd(p + sa), rd(p + 2u * sa));
     } else {
-        value = weno(f[p + 3u * sa], f[p + 2u * sa], f[p + sa], f[p], f[p - sa]);
+        value = weno(rd(p + 3u * sa), rd(p + 2u * sa), rd(p + sa), rd(p), rd(p - sa));
     }
     return v * value;
 }
@@ -268,7 +307,7 @@ fn laplacian(c: u32, p: u32) -> real {
     var sum: real = 0.0;
     for (var a = 0u; a < 3u; a++) {
         if GH[a] > 0u {
-            sum += s[INV_H2 + a] * (f[p + st[a]] - 2.0 * f[p] + f[p - st[a]]);
+            sum += s[INV_H2 + a] * (rd(p + st[a]) - 2.0 * rd(p) + rd(p - st[a]));
         }
     }
     return sum;
@@ -295,10 +334,10 @@ fn rhs(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) g
             adv += (flux(c, a, p, q) - flux(c, a, p - sa, q - unit(a))) * s[INV_H + a];
         }
     }
-    f[op.o0 + rel] = adv;
-    let advected = s[AB0] * adv + s[AB1] * f[op.o1 + rel];
+    wr(op.o0 + rel, adv);
+    let advected = s[AB0] * adv + s[AB1] * rd(op.o1 + rel);
     let grad_q = face_gradient(Q_OFF, c, q);
-    f[op.o2 + rel] = s[DT] * (-advected - grad_q + s[NU] * laplacian(c, p));
+    wr(op.o2 + rel, s[DT] * (-advected - grad_q + s[NU] * laplacian(c, p)));
 }
 
 // r = b − (I − αL)δ and p = r on the unknown faces: δ at o0, b at o1, r
@@ -311,9 +350,9 @@ fn helm_residual(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     }
     let rel = box_index(box_coords(t));
     let d = op.o0 + rel;
-    let r = f[op.o1 + rel] - (f[d] - s[ALPHA] * laplacian(op.comp, d));
-    f[op.o2 + rel] = r;
-    f[op.o3 + rel] = r;
+    let r = rd(op.o1 + rel) - (rd(d) - s[ALPHA] * laplacian(op.comp, d));
+    wr(op.o2 + rel, r);
+    wr(op.o3 + rel, r);
 }
 
 // q = (I − αL)p on the unknown faces: p at o0, q at o1.
@@ -325,7 +364,7 @@ fn helm_apply(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     }
     let rel = box_index(box_coords(t));
     let p = op.o0 + rel;
-    f[op.o1 + rel] = f[p] - s[ALPHA] * laplacian(op.comp, p);
+    wr(op.o1 + rel, rd(p) - s[ALPHA] * laplacian(op.comp, p));
 }
 
 // ---- Vector operations and sums ------------------------------------------
@@ -342,9 +381,9 @@ fn lin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) g
     let c = select(s[op.slot], -s[op.slot], (op.kind & 1u) == 1u);
     var y: real = 0.0;
     if (op.kind & 2u) == 0u {
-        y = f[op.o1 + rel];
+        y = rd(op.o1 + rel);
     }
-    f[op.o0 + rel] = y + c * f[op.o2 + rel];
+    wr(op.o0 + rel, y + c * rd(op.o2 + rel));
 }
 
 // x (o0) −= s[slot] over the op's box.
@@ -355,7 +394,7 @@ fn shift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
         return;
     }
     let rel = box_index(box_coords(t));
-    f[op.o0 + rel] -= s[op.slot];
+    wr(op.o0 + rel, rd(op.o0 + rel) - (s[op.slot]));
 }
 
 // Whether the whole workgroup skips this pass (a uniform value, so that
@@ -383,9 +422,9 @@ fn reduce(
     var v: real = 0.0;
     if t < box_size() {
         let rel = box_index(box_coords(t));
-        let x = f[op.o0 + rel];
+        let x = rd(op.o0 + rel);
         if op.kind == 0u {
-            v = x * f[op.o1 + rel];
+            v = x * rd(op.o1 + rel);
         } else if op.kind == 1u {
             v = x;
         } else {
@@ -521,10 +560,10 @@ fn divergence(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     var div: real = 0.0;
     for (var d = 0u; d < 3u; d++) {
         if NC[d] > 1u {
-            div += (f[at(d, c + unit(d))] - f[at(d, c)]) * s[INV_H + d];
+            div += (rd(at(d, c + unit(d))) - rd(at(d, c))) * s[INV_H + d];
         }
     }
-    f[op.o0 + t] = div * (-1.0 / s[DT]);
+    wr(op.o0 + t, div * (-1.0 / s[DT]));
 }
 
 // (A x)_c = −∇²ₕx at cell t of level l, x at `off` (fluid-proc's
@@ -557,10 +596,10 @@ fn poisson(l: u32, off: u32, t: u32) -> real {
                 m[d] = select(n[d] - 1u, 0u, up == 1u);
             }
             diag += w;
-            sum += w * f[off + cell_index(n, m)];
+            sum += w * rd(off + cell_index(n, m));
         }
     }
-    return diag * f[off + t] - sum;
+    return diag * rd(off + t) - sum;
 }
 
 // A's diagonal at cell t of level l.
@@ -595,9 +634,9 @@ fn poisson_apply(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     }
     let ax = poisson(op.comp, op.o0, t);
     if op.kind == 1u {
-        f[op.o1 + t] = f[op.o2 + t] - ax;
+        wr(op.o1 + t, rd(op.o2 + t) - ax);
     } else {
-        f[op.o1 + t] = ax;
+        wr(op.o1 + t, ax);
     }
 }
 
@@ -611,7 +650,7 @@ fn relax(l: u32, bo: u32, xo: u32, t: u32, colour: u32) {
     let d = poisson_diagonal(l, t);
     if d != 0.0 {
         // A x = d·x − Σ: x ← (b + Σ)/d = x + (b − A x)/d.
-        f[xo + t] += (f[bo + t] - poisson(l, xo, t)) / d;
+        wr(xo + t, rd(xo + t) + ((rd(bo + t) - poisson(l, xo, t)) / d));
     }
 }
 
@@ -655,11 +694,11 @@ fn restriction(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     for (var k = 0u; k < kids.z; k++) {
         for (var j = 0u; j < kids.y; j++) {
             for (var i = 0u; i < kids.x; i++) {
-                sum += f[op.o0 + cell_index(fine, first + vec3<u32>(i, j, k))] * share;
+                sum += rd(op.o0 + cell_index(fine, first + vec3<u32>(i, j, k))) * share;
             }
         }
     }
-    f[op.o1 + t] = sum;
+    wr(op.o1 + t, sum);
 }
 
 // Level op.comp's x (o0) += its parents' correction on level op.comp + 1 (o1).
@@ -676,7 +715,7 @@ fn prolongation(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
             c[d] /= 2u;
         }
     }
-    f[op.o0 + t] += f[op.o1 + cell_index(LEVEL_N[l + 1u], c)];
+    wr(op.o0 + t, rd(op.o0 + t) + (rd(op.o1 + cell_index(LEVEL_N[l + 1u], c))));
 }
 
 // The coarsest level op.comp (b at o0, x at o1) on one workgroup: x from
@@ -687,7 +726,7 @@ fn coarsest(@builtin(local_invocation_index) local: u32) {
     let l = op.comp;
     let n = op.count;
     for (var t = local; t < n; t += WG) {
-        f[op.o1 + t] = 0.0;
+        wr(op.o1 + t, 0.0);
     }
     storageBarrier();
     for (var sweep = 0u; sweep < 4u * COARSEST_SWEEPS; sweep++) {
@@ -705,13 +744,13 @@ fn coarsest(@builtin(local_invocation_index) local: u32) {
     }
     var v: real = 0.0;
     for (var t = local; t < n; t += WG) {
-        v += f[op.o1 + t];
+        v += rd(op.o1 + t);
     }
     shared_sum[local] = v;
     combine_shared(local, false);
     let mean = shared_sum[0] / real(n);
     for (var t = local; t < n; t += WG) {
-        f[op.o1 + t] -= mean;
+        wr(op.o1 + t, rd(op.o1 + t) - (mean));
     }
 }
 
@@ -725,7 +764,7 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
     let pc = box_coords(t);
     let q = vec3<i32>(pc) - vec3<i32>(GH);
     let d = op.comp;
-    f[U_OFF[d] + box_index(pc)] -= s[DT] * face_gradient(PHI_OFF, d, q);
+    wr(U_OFF[d] + box_index(pc), rd(U_OFF[d] + box_index(pc)) - (s[DT] * face_gradient(PHI_OFF, d, q)));
 }
 
 // Eq. (3.20) with A = −∇²: q ← q + φ + (νΔt/2)Aφ per cell.
@@ -735,7 +774,7 @@ fn pressure_update(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     if t >= op.count {
         return;
     }
-    f[Q_OFF + t] += f[PHI_OFF + t] + s[ALPHA] * poisson(0u, PHI_OFF, t);
+    wr(Q_OFF + t, rd(Q_OFF + t) + (rd(PHI_OFF + t) + s[ALPHA] * poisson(0u, PHI_OFF, t)));
 }
 
 // o0 ← Σ_a |u_a|/h_a per cell, u_a the mean of the cell's two a-faces: the
@@ -750,10 +789,10 @@ fn courant(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
     var sum: real = 0.0;
     for (var a = 0u; a < 3u; a++) {
         if NC[a] > 1u {
-            sum += abs(0.5 * (f[at(a, c)] + f[at(a, c + unit(a))])) * s[INV_H + a];
+            sum += abs(0.5 * (rd(at(a, c)) + rd(at(a, c + unit(a))))) * s[INV_H + a];
         }
     }
-    f[op.o0 + t] = sum;
+    wr(op.o0 + t, sum);
 }
 
 // ---- Bodies and the canopy in the flow ---------------------------------
@@ -867,7 +906,7 @@ fn interpolate(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
                         let w = wj * r.weight[0][i];
                         if w != 0.0 {
                             let q = vec3<i32>(r.index[0][i], r.index[1][j], r.index[2][kk]);
-                            v += w * f[at(c, q)];
+                            v += w * rd(at(c, q));
                         }
                     }
                 }
@@ -947,7 +986,7 @@ fn spread(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
                         let w = wj * r.weight[0][i];
                         if w != 0.0 {
                             let q = vec3<i32>(r.index[0][i], r.index[1][j], r.index[2][kk]);
-                            f[at(c, q)] += push * w / s[CELL];
+                            wr(at(c, q), rd(at(c, q)) + (push * w / s[CELL]));
                         }
                     }
                 }

@@ -53,19 +53,18 @@ pub fn workgroups(threads: u32, size: u32) -> (u32, u32) {
     }
 }
 
-/// The byte ranges (offset, length) of `source`, one after the other,
+/// The byte ranges (source, offset, length), one after the other,
 /// through the mappable `readback` buffer (at least their sum long):
 /// waits for the queue.
 pub fn read_back(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
-    source: &wgpu::Buffer,
-    ranges: &[(u64, u64)],
+    ranges: &[(&wgpu::Buffer, u64, u64)],
     readback: &wgpu::Buffer,
 ) -> Result<Vec<u8>, GpuError> {
     let mut encoder = device.create_command_encoder(&Default::default());
     let mut bytes = 0;
-    for &(offset, len) in ranges {
+    for &(source, offset, len) in ranges {
         encoder.copy_buffer_to_buffer(source, offset, readback, bytes, len);
         bytes += len;
     }

@@ -331,14 +331,8 @@ impl Solver {
         }
         let size = (self.precision.size() * len) as u64;
         let bytes = size * outs.len() as u64;
-        let range = [(first as u64 * size, bytes)];
-        let data = read_back(
-            &self.device,
-            &self.queue,
-            &self.buffers.vecs,
-            &range,
-            &self.readback,
-        )?;
+        let range = [(&self.buffers.vecs, first as u64 * size, bytes)];
+        let data = read_back(&self.device, &self.queue, &range, &self.readback)?;
         for (k, out) in outs.iter_mut().enumerate() {
             let at = k * size as usize;
             self.precision.read(&data[at..at + size as usize], out);

@@ -76,8 +76,14 @@ pub fn probe(section: &FluidSection) -> Result<(), String> {
 impl Incompressible {
     /// From now on, step on `gpu`.
     pub fn to_device(&mut self, gpu: &Gpu) -> Result<(), String> {
+        self.to_device_binding_at_most(gpu, u64::MAX)
+    }
+
+    /// [`Incompressible::to_device`], the arrays split as if the adapter
+    /// bound at most `bytes` a binding (`Flow::binding_at_most`).
+    pub fn to_device_binding_at_most(&mut self, gpu: &Gpu, bytes: u64) -> Result<(), String> {
         let spec = device_box(self)?;
-        let flow = Flow::new(gpu, &spec).map_err(|e| e.to_string())?;
+        let flow = Flow::binding_at_most(gpu, &spec, bytes).map_err(|e| e.to_string())?;
         self.device = Some(OnDevice {
             flow,
             markers: Vec::new(),
