@@ -80,6 +80,7 @@ fn wri(i: i32, v: real) {
 const GIVEN: u32 = 0u;
 const OUTFLOW: u32 = 1u;
 const PERIODIC: u32 = 2u;
+const PARABOLIC: u32 = 3u;
 // A solve's block of scalar slots.
 const DONE: u32 = 0u;
 const ITER: u32 = 1u;
@@ -231,12 +232,16 @@ fn ghosts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         }
         return;
     }
+    let lines = vec3<u32>(0u, t % dims[b], t / dims[b]);
     for (var up = 0u; up < 2u; up++) {
         let side = SIDE[2u * a + up];
         let edge = select(0, last, up == 1u);
         let dir = select(-1, 1, up == 1u);
-        if side == GIVEN {
-            let given = select(s[op.slot + 3u * (2u * a + up) + c], 0.0, op.kind == 1u);
+        if side == GIVEN || side == PARABOLIC {
+            var given = select(s[op.slot + 3u * (2u * a + up) + c], 0.0, op.kind == 1u);
+            if side == PARABOLIC {
+                given *= profile(c, a, lines);
+            }
             if normal {
                 wri(base + edge * sa, given);
                 for (var k = 1; k <= g; k++) {
@@ -253,6 +258,31 @@ fn ghosts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             }
         }
     }
+}
+
+// The shape factor of a parabolic side normal to a for the line of
+// component c whose padded places along the other two axes b = a + 1 and
+// e = a + 2 are lines.y and lines.z (fluid-proc's `Padded::profile`):
+// Poiseuille's 4s(1 − s) across each of them that is not periodic, s from
+// 0 at one wall to 1 at the other; a ghost line beyond a wall takes 0.
+fn profile(c: u32, a: u32, lines: vec3<u32>) -> real {
+    var f: real = 1.0;
+    for (var k = 1u; k < 3u; k++) {
+        let t = (a + k) % 3u;
+        if SIDE[2u * t] == PERIODIC {
+            continue;
+        }
+        let i = real(i32(lines[k]) - i32(GH[t]));
+        var s: real;
+        if t == c {
+            s = i / real(NC[t]);
+        } else {
+            s = (i + 0.5) / real(NC[t]);
+        }
+        s = clamp(s, 0.0, 1.0);
+        f *= 4.0 * s * (1.0 - s);
+    }
+    return f;
 }
 
 // ---- Advection and the viscous term -------------------------------------

@@ -23,7 +23,7 @@ mod memory;
 mod plan;
 mod spec;
 
-pub use flow::{given, Flow, FlowError, History, Moving, Report, TOLERANCE};
+pub use flow::{given, Flow, FlowError, History, Moving, Report, TOLERANCE, TOLERANCE_F32};
 pub use gpu_device::{Gpu, GpuError, Precision};
 pub use markers::{Law, Marker};
 pub use spec::{FlowBox, Side, GHOSTS};

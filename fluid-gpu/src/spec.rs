@@ -3,12 +3,15 @@
 //! with three ghost layers a side (fluid-proc's `Padded`), the faces the
 //! momentum equation updates, and the multigrid's levels.
 
-/// What a side of the box does (fluid-proc's `side::Side`, less the sides
-/// the device does not cover yet: a parabolic inflow, another rank).
+/// What a side of the box does (fluid-proc's `side::Side`, less another
+/// rank, which the device does not cover).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Side {
     /// The velocity on the side is given [m/s]: a wall, a lid, an inflow.
     Velocity([f64; 3]),
+    /// A channel inflow: this peak velocity [m/s] times 4s(1 − s) across
+    /// each direction along the side that is not periodic.
+    Parabolic([f64; 3]),
     /// An outflow at p = 0.
     Outflow,
     /// Wraps to the opposite side, which must be periodic too.
@@ -22,6 +25,7 @@ impl Side {
             Side::Velocity(_) => 0,
             Side::Outflow => 1,
             Side::Periodic => 2,
+            Side::Parabolic(_) => 3,
         }
     }
 }
@@ -87,7 +91,7 @@ impl FlowBox {
         let [low, high] = self.sides[c];
         [0, 1, 2].map(|a| match a == c {
             true => [
-                matches!(low, Side::Velocity(_)) as usize,
+                matches!(low, Side::Velocity(_) | Side::Parabolic(_)) as usize,
                 self.n[c] + (high == Side::Outflow) as usize,
             ],
             false => [0, self.n[a]],

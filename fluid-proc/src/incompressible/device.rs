@@ -45,7 +45,7 @@ pub fn device_box(flow: &Incompressible) -> Result<FlowBox, String> {
         Side::Velocity(v) => Ok(fluid_gpu::Side::Velocity(v)),
         Side::Outflow => Ok(fluid_gpu::Side::Outflow),
         Side::Periodic => Ok(fluid_gpu::Side::Periodic),
-        Side::Parabolic(_) => Err("the device does not run a parabolic side yet".to_string()),
+        Side::Parabolic(v) => Ok(fluid_gpu::Side::Parabolic(v)),
         Side::Rank => Err("the device runs the flow on one rank".to_string()),
     };
     let mut sides = [[fluid_gpu::Side::Periodic; 2]; 3];
@@ -239,7 +239,7 @@ impl Incompressible {
 fn given(sides: &crate::incompressible::side::Sides) -> [[[f64; 3]; 2]; 3] {
     sides.map(|pair| {
         pair.map(|s| match s {
-            Side::Velocity(v) => v,
+            Side::Velocity(v) | Side::Parabolic(v) => v,
             _ => [0.0; 3],
         })
     })
