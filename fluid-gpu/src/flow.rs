@@ -149,6 +149,9 @@ pub struct Flow {
     layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
     op_stride: u32,
+    /// A copy of the state on the device (`snapshot`), and the step
+    /// history's scalars with it.
+    snapshot: Option<(wgpu::Buffer, Option<f64>)>,
     /// The markers as the device holds them, and the forcing's passes.
     sorted: Option<Sorted>,
     forcing: Vec<Pass>,
@@ -253,6 +256,7 @@ impl Flow {
             layout,
             bind_group,
             op_stride,
+            snapshot: None,
             sorted: None,
             forcing: Vec::new(),
             parity: 0,
@@ -423,6 +427,75 @@ impl Flow {
             advection,
             delta,
         })
+    }
+
+    /// The arrays a step starts from, as (first, len): u, Nⁿ and δ of each
+    /// component, q and φ.
+    fn state_arrays(&self) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        for (c, a) in self.active() {
+            let len = self.spec.padded_len(c);
+            out.extend([(a.u, len), (a.n[1 - self.parity], len), (a.delta, len)]);
+        }
+        out.extend([(self.mem.q, self.spec.cells()), (self.mem.phi, self.spec.cells())]);
+        out
+    }
+
+    /// Copies the state a step starts from into a buffer on the device, for
+    /// [`Flow::restore_snapshot`]: a window that implicit coupling may take
+    /// again goes back to its start without the state crossing to the host.
+    pub fn snapshot(&mut self) -> Result<(), GpuError> {
+        let arrays = self.state_arrays();
+        let size = self.precision.size() as u64;
+        let bytes: u64 = arrays.iter().map(|a| a.1 as u64 * size).sum();
+        let buffer = match self.snapshot.take() {
+            Some((b, _)) if b.size() >= bytes => b,
+            _ => self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("snapshot"),
+                size: bytes,
+                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        };
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        let mut at = 0;
+        for (first, len) in arrays {
+            for (k, from, n) in self.segments.pieces(first, len) {
+                let f = &self.buffers.f[k];
+                encoder.copy_buffer_to_buffer(f, from as u64 * size, &buffer, at, n as u64 * size);
+                at += n as u64 * size;
+            }
+        }
+        self.queue.submit([encoder.finish()]);
+        self.snapshot = Some((buffer, self.last_dt));
+        Ok(())
+    }
+
+    /// Whether a [`Flow::snapshot`] was taken.
+    pub fn has_snapshot(&self) -> bool {
+        self.snapshot.is_some()
+    }
+
+    /// Returns to the state of the last [`Flow::snapshot`]; false where
+    /// none was taken.
+    pub fn restore_snapshot(&mut self) -> Result<bool, GpuError> {
+        let Some((buffer, last_dt)) = &self.snapshot else {
+            return Ok(false);
+        };
+        let size = self.precision.size() as u64;
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        let mut at = 0;
+        for (first, len) in self.state_arrays() {
+            for (k, to, n) in self.segments.pieces(first, len) {
+                let f = &self.buffers.f[k];
+                encoder.copy_buffer_to_buffer(buffer, at, f, to as u64 * size, n as u64 * size);
+                at += n as u64 * size;
+            }
+        }
+        self.queue.submit([encoder.finish()]);
+        self.last_dt = *last_dt;
+        self.measure()?;
+        Ok(true)
     }
 
     /// The arrays (first, len) of `f`, read at once.

@@ -34,6 +34,10 @@ pub struct Checkpoint {
     canopy: Option<ImmersedBody>,
     /// Where the box is and how it moves, when it follows the parachute.
     frame: Option<Frame>,
+    /// The step history stayed on the device, in its copy of the window's
+    /// start (`device.rs`): a window's checkpoint, never written to disk.
+    #[serde(skip)]
+    on_device: bool,
 }
 
 /// What a flow step reads beyond (u, q): φ, the last Δt, and per advected
@@ -46,6 +50,13 @@ pub struct History {
     pub(crate) delta: Vec<Vec<f64>>,
 }
 
+impl Checkpoint {
+    /// Whether its step history stayed on the device (`device.rs`).
+    pub fn on_device(&self) -> bool {
+        self.on_device
+    }
+}
+
 impl Incompressible {
     /// Save this rank's flow into `into`.
     pub fn save(&self, into: &mut Checkpoint) {
@@ -55,7 +66,10 @@ impl Incompressible {
         }
         into.q.clone_from(&self.q);
         into.time = self.time;
-        self.save_history(&mut into.history);
+        into.on_device = self.take_snapshot();
+        if !into.on_device {
+            self.save_history(&mut into.history);
+        }
         into.bodies.clone_from(&self.bodies);
         into.canopy.clone_from(&self.canopy);
         into.frame = self.frame;
@@ -74,7 +88,11 @@ impl Incompressible {
         self.u.clone_from(u);
         self.q.clone_from(&from.q);
         self.time = from.time;
-        self.restore_history(&from.history);
+        // The device's own copy of the window's start, where it took one;
+        // else the state goes up before the next step.
+        if !(from.on_device && self.restore_snapshot()) {
+            self.restore_history(&from.history);
+        }
         self.bodies.clone_from(&from.bodies);
         self.canopy.clone_from(&from.canopy);
         self.frame = from.frame;

@@ -30,6 +30,9 @@ pub(crate) struct OnDevice {
     current: bool,
     /// The host's `u` and `q` are older than the device's.
     host_stale: bool,
+    /// A window's start was just copied on the device
+    /// ([`Incompressible::snapshot_window`]); the next save takes it.
+    snapshot_taken: std::cell::Cell<bool>,
 }
 
 /// The box the device steps for this flow, or why it cannot.
@@ -89,6 +92,7 @@ impl Incompressible {
             markers: Vec::new(),
             current: false,
             host_stale: false,
+            snapshot_taken: std::cell::Cell::new(false),
         });
         Ok(())
     }
@@ -102,6 +106,45 @@ impl Incompressible {
     pub(crate) fn host_changed(&mut self) {
         if let Some(d) = &mut self.device {
             d.current = false;
+        }
+    }
+
+    /// A window that implicit coupling may take again begins: where the
+    /// device holds the state, it copies it there, and the window's save
+    /// ([`Incompressible::save`]) then leaves the step history on the
+    /// device, a restore taking it back there.
+    pub fn snapshot_window(&mut self) -> Result<(), FlowError> {
+        let Some(d) = self.device.as_mut().filter(|d| d.current) else {
+            return Ok(());
+        };
+        d.flow.snapshot().map_err(gpu)?;
+        d.snapshot_taken.set(true);
+        Ok(())
+    }
+
+    /// Whether this save takes the device's copy of the window's start
+    /// (once: a later save, a run checkpoint's, reads the history back).
+    pub(crate) fn take_snapshot(&self) -> bool {
+        self.device.as_ref().is_some_and(|d| d.snapshot_taken.replace(false))
+    }
+
+    /// Whether the device holds the state and its copy of a window's start.
+    pub fn holds_snapshot(&self) -> bool {
+        self.device.as_ref().is_some_and(|d| d.current && d.flow.has_snapshot())
+    }
+
+    /// Back to the device's copy of the window's start; false where it has
+    /// none (the caller then sends the checkpoint's state up).
+    pub(crate) fn restore_snapshot(&mut self) -> bool {
+        let Some(d) = self.device.as_mut().filter(|d| d.current) else {
+            return false;
+        };
+        match d.flow.restore_snapshot() {
+            Ok(true) => {
+                d.host_stale = false;
+                true
+            }
+            _ => false,
         }
     }
 

@@ -134,8 +134,13 @@ impl Model for Flow {
 
     fn new_window(&mut self) {
         // A window may be taken again: its later tries take the first
-        // one's prediction (`prediction.rs`).
+        // one's prediction (`prediction.rs`); on a device, its start is
+        // copied there (`device.rs`).
         self.flow.keep_predictions();
+        if let Err(e) = self.flow.snapshot_window() {
+            // The save then reads the state back instead.
+            eprintln!("fluid-proc: {e}");
+        }
     }
 
     fn save(&self, into: &mut Checkpoint) {
@@ -145,6 +150,9 @@ impl Model for Flow {
     fn restore(&mut self, from: &Checkpoint) -> Result<(), String> {
         if !self.flow.fits(from) {
             return Err("another part of the flow than this rank's".into());
+        }
+        if from.on_device() && !self.flow.holds_snapshot() {
+            return Err("the device no longer holds the window's start it saved".into());
         }
         self.flow.restore(from);
         Ok(())
