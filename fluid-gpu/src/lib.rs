@@ -18,12 +18,17 @@
 //! with `device = "gpu"`).
 
 mod flow;
+mod kernels;
 mod markers;
 mod memory;
+mod pass;
 mod plan;
 mod spec;
+mod state;
+mod window;
 
-pub use flow::{given, Flow, FlowError, History, Moving, Report, TOLERANCE, TOLERANCE_F32};
+pub use flow::{given, Flow, FlowError, Moving, Report, TOLERANCE, TOLERANCE_F32};
 pub use gpu_device::{Gpu, GpuError, Precision};
 pub use markers::{Law, Marker};
 pub use spec::{FlowBox, Side, GHOSTS};
+pub use state::History;

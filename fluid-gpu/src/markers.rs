@@ -2,7 +2,13 @@
 //! immersed.rs): their records, and the blocks they are sorted into so
 //! that spreading their pushes needs no atomics (flow.wgsl's `spread`).
 
+use crate::flow::Flow;
+use crate::kernels::bind_group;
+use crate::pass::{
+    Kernel, Pass, Rec, FORCING_PASSES, FORCING_RECORDS, RECORD_BYTES, SPREAD_WORKGROUP, WORKGROUP,
+};
 use crate::spec::{FlowBox, Side};
+use gpu_device::{buffer, check_size, non_empty, read_back, workgroups, GpuError};
 
 /// How the air is held at a marker.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -145,6 +151,138 @@ fn record(m: &Marker) -> [f64; MARKER] {
     r[10..12].copy_from_slice(&law);
     r[12] = kind;
     r
+}
+
+impl Flow {
+    /// Puts the bodies' and the canopy's `markers` in the flow (none: the
+    /// flow alone): each step from now on forces the air at them
+    /// (fluid-proc's `immersed::force`), and what each gives the fluid is
+    /// summed on the device until [`Flow::take_given`].
+    pub fn set_markers(&mut self, markers: &[Marker]) -> Result<(), GpuError> {
+        let sorted = Sorted::of(&self.spec, markers);
+        let p = self.precision;
+        let (record_bytes, table_bytes) = (sorted.records.len() * p.size(), sorted.table.len() * 4);
+        check_size(&self.device, "the markers", record_bytes as u64)?;
+        let storage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST;
+        let mut grown = false;
+        if (record_bytes as u64) > self.buffers.markers.size() {
+            let bytes = non_empty(p.bytes(&vec![0.0; 2 * sorted.records.len()]));
+            self.buffers.markers = buffer(&self.device, "markers", &bytes, storage);
+            grown = true;
+        }
+        if (table_bytes as u64) > self.buffers.blocks.size() {
+            let bytes = vec![0u8; 2 * table_bytes];
+            self.buffers.blocks = buffer(&self.device, "blocks", &bytes, storage);
+            grown = true;
+        }
+        if grown {
+            self.bind_group = bind_group(&self.device, &self.layout, &self.buffers);
+        }
+        if (record_bytes as u64) > self.buffers.readback.size() {
+            self.buffers.readback = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback"),
+                size: record_bytes as u64,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+        }
+        if !markers.is_empty() {
+            self.queue
+                .write_buffer(&self.buffers.markers, 0, &p.bytes(&sorted.records));
+            self.queue
+                .write_buffer(&self.buffers.blocks, 0, bytemuck::cast_slice(&sorted.table));
+        }
+        self.forcing = self.forcing_passes(&sorted, markers);
+        self.sorted = Some(sorted);
+        Ok(())
+    }
+
+    /// The forcing passes over `sorted`, their records written: the porous
+    /// sheets' drag, then FORCING_PASSES − 1 passes over the others.
+    fn forcing_passes(&self, sorted: &Sorted, markers: &[Marker]) -> Vec<Pass> {
+        let porous = markers.iter().any(|m| matches!(m.law, Law::Porous(_)));
+        let others = markers.iter().any(|m| !matches!(m.law, Law::Porous(_)));
+        let count = markers.len();
+        let mut list = Vec::new();
+        let mut recs = Vec::new();
+        for pass in 0..FORCING_PASSES {
+            let aux = (pass > 0) as usize;
+            if (aux == 0 && !porous) || (aux == 1 && !others) {
+                continue;
+            }
+            let each = Rec {
+                aux,
+                count,
+                ..Rec::default()
+            };
+            for kernel in [Kernel::Interpolate, Kernel::Pushes] {
+                list.push((kernel, each, workgroups(count as u32, WORKGROUP)));
+            }
+            for &(start, blocks) in &sorted.colours {
+                let rec = Rec {
+                    o: [start, 0, 0, 0],
+                    aux,
+                    count: blocks,
+                    ..Rec::default()
+                };
+                list.push((
+                    Kernel::Spread,
+                    rec,
+                    workgroups(blocks as u32, SPREAD_WORKGROUP),
+                ));
+            }
+        }
+        debug_assert!(list.len() <= FORCING_RECORDS);
+        let passes = list
+            .into_iter()
+            .enumerate()
+            .map(|(i, (kernel, rec, groups))| {
+                recs.push(rec.words());
+                Pass {
+                    kernel,
+                    op: (self.plan.forcing + i) as u32,
+                    groups,
+                }
+            })
+            .collect();
+        let mut bytes = vec![0u8; recs.len() * self.op_stride as usize];
+        for (k, r) in recs.iter().enumerate() {
+            let at = k * self.op_stride as usize;
+            bytes[at..at + RECORD_BYTES].copy_from_slice(bytemuck::cast_slice(r));
+        }
+        if !bytes.is_empty() {
+            let at = (self.plan.forcing * self.op_stride as usize) as u64;
+            self.queue.write_buffer(&self.buffers.ops, at, &bytes);
+        }
+        passes
+    }
+
+    /// What each marker (in the order [`Flow::set_markers`] took them)
+    /// has given the fluid since the markers were set or last taken: Σ
+    /// F_k ΔV_k Δt, momentum per unit density [m⁴/s]; the sums start again.
+    pub fn take_given(&mut self) -> Result<Vec<[f64; 3]>, GpuError> {
+        let Some(sorted) = &self.sorted else {
+            return Ok(Vec::new());
+        };
+        if sorted.order.is_empty() {
+            return Ok(Vec::new());
+        }
+        let size = self.precision.size();
+        let bytes = (sorted.records.len() * size) as u64;
+        let range = [(&self.buffers.markers, 0, bytes)];
+        let read = read_back(&self.device, &self.queue, &range, &self.buffers.readback)?;
+        let mut records = vec![0.0; sorted.records.len()];
+        self.precision.read(&read, &mut records);
+        let given = sorted.given(&records);
+        self.queue.write_buffer(
+            &self.buffers.markers,
+            0,
+            &self.precision.bytes(&sorted.records),
+        );
+        Ok(given)
+    }
 }
 
 #[cfg(test)]

@@ -114,7 +114,8 @@ impl Incompressible {
     /// ([`Incompressible::save`]) then leaves the step history on the
     /// device, a restore taking it back there.
     pub fn snapshot_window(&mut self) -> Result<(), FlowError> {
-        let Some(d) = self.device.as_mut().filter(|d| d.current) else {
+        self.send_state()?;
+        let Some(d) = self.device.as_mut() else {
             return Ok(());
         };
         d.flow.snapshot().map_err(gpu)?;
@@ -122,15 +123,38 @@ impl Incompressible {
         Ok(())
     }
 
+    /// Sends the host's state up where the device does not hold it.
+    fn send_state(&mut self) -> Result<(), FlowError> {
+        if !self.device.as_ref().is_some_and(|d| !d.current) {
+            return Ok(());
+        }
+        let mut history = History::default();
+        self.save_history(&mut history);
+        let h = fluid_gpu::History {
+            phi: history.phi,
+            last_dt: history.last_dt,
+            advection: history.advection,
+            delta: history.delta,
+        };
+        let d = self.device.as_mut().expect("a device");
+        d.flow.upload(&self.u.u, &self.q, Some(&h)).map_err(gpu)?;
+        d.current = true;
+        Ok(())
+    }
+
     /// Whether this save takes the device's copy of the window's start
     /// (once: a later save, a run checkpoint's, reads the history back).
     pub(crate) fn take_snapshot(&self) -> bool {
-        self.device.as_ref().is_some_and(|d| d.snapshot_taken.replace(false))
+        self.device
+            .as_ref()
+            .is_some_and(|d| d.snapshot_taken.replace(false))
     }
 
     /// Whether the device holds the state and its copy of a window's start.
     pub fn holds_snapshot(&self) -> bool {
-        self.device.as_ref().is_some_and(|d| d.current && d.flow.has_snapshot())
+        self.device
+            .as_ref()
+            .is_some_and(|d| d.current && d.flow.has_snapshot())
     }
 
     /// Back to the device's copy of the window's start; false where it has
@@ -166,20 +190,8 @@ impl Incompressible {
     }
 
     /// [`Incompressible::step_in_window`] on the device.
-    pub(crate) fn step_on_device(&mut self, dt: f64) -> Result<StepReport, FlowError> {
-        if !self.device.as_ref().is_some_and(|d| d.current) {
-            let mut history = History::default();
-            self.save_history(&mut history);
-            let h = fluid_gpu::History {
-                phi: history.phi,
-                last_dt: history.last_dt,
-                advection: history.advection,
-                delta: history.delta,
-            };
-            let d = self.device.as_mut().expect("a device");
-            d.flow.upload(&self.u.u, &self.q, Some(&h)).map_err(gpu)?;
-            d.current = true;
-        }
+    pub(crate) fn step_on_device(&mut self, dt: f64, first: bool) -> Result<StepReport, FlowError> {
+        self.send_state()?;
         let markers = self.device_markers();
         let d = self.device.as_mut().expect("a device");
         if markers != d.markers {
@@ -204,11 +216,17 @@ impl Incompressible {
             frame: self.frame_velocity(),
             dv,
         };
+        // Under implicit coupling a window's later tries take its first
+        // prediction, kept on the device (fluid-gpu's window.rs).
+        let first = first && self.prediction.is_some();
         let d = self.device.as_mut().expect("a device");
-        let report = d.flow.step_moving(dt, &moving).map_err(|e| match e {
-            fluid_gpu::FlowError::NonFinite => FlowError::NonFinite,
-            e => FlowError::Device(e.to_string()),
-        })?;
+        let report = d
+            .flow
+            .step_in_window(dt, &moving, first)
+            .map_err(|e| match e {
+                fluid_gpu::FlowError::NonFinite => FlowError::NonFinite,
+                e => FlowError::Device(e.to_string()),
+            })?;
         d.host_stale = true;
         for body in self.forced() {
             body.forced_for(dt);
@@ -220,7 +238,7 @@ impl Incompressible {
             pressure_iterations: report.pressure_iterations,
             pressure_seconds: clock.elapsed().as_secs_f64(),
             viscous_iterations: report.viscous_iterations,
-            kept_prediction: false,
+            kept_prediction: report.kept_prediction,
         })
     }
 }

@@ -414,7 +414,7 @@ impl Incompressible {
     /// [`Incompressible::keep_predictions`] was called.
     pub fn step_in_window(&mut self, dt: f64, first: bool) -> Result<StepReport, FlowError> {
         if self.device.is_some() {
-            return self.step_on_device(dt);
+            return self.step_on_device(dt, first);
         }
         let courant = self.courant(dt);
         if !courant.is_finite() {
