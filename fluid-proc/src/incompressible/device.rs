@@ -125,7 +125,7 @@ impl Incompressible {
 
     /// Sends the host's state up where the device does not hold it.
     fn send_state(&mut self) -> Result<(), FlowError> {
-        if !self.device.as_ref().is_some_and(|d| !d.current) {
+        if self.device.as_ref().is_none_or(|d| d.current) {
             return Ok(());
         }
         let mut history = History::default();
