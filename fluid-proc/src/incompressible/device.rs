@@ -177,8 +177,9 @@ impl Incompressible {
         let Some(d) = self.device.as_ref().filter(|d| d.current) else {
             return false;
         };
-        // A device lost while saving leaves the window unsaveable; the
-        // next step reports the device's error.
+        // A device lost while saving: the checkpoint keeps the host's
+        // older history, and the next step stops the run with the
+        // device's error.
         let Ok(h) = d.flow.history() else {
             return false;
         };
