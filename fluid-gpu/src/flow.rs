@@ -335,7 +335,7 @@ impl Flow {
             }
             false => {
                 let start = self.plan.start[self.parity].clone();
-                let viscous = self.iterate(&start, 0)?;
+                let viscous = self.iterate(&start, 0, &[])?.0;
                 if first {
                     self.keep_prediction(dt, moving, viscous);
                 }
@@ -347,12 +347,11 @@ impl Flow {
         let lists =
             [&plan.change, &self.forcing, &plan.impose, &plan.projection].map(|l| l.as_slice());
         let projection: Vec<Pass> = lists.concat();
-        let pressure = self.iterate(&projection, 1)?;
-        self.run(&[&self.plan.end])?;
+        let end = self.plan.end.clone();
+        let (pressure, s) = self.iterate(&projection, 1, &end)?;
         if first {
             self.keep_correction();
         }
-        let s = self.read_scalars()?;
         self.courant = [s[slot::COURANT], s[slot::FINITE]];
         if !self.courant[1].is_finite() {
             return Err(FlowError::NonFinite);
@@ -369,7 +368,12 @@ impl Flow {
     /// Runs `first`, then the solve's iterations (0: the viscous solves,
     /// 1: the pressure's) in submits of `batch` until every one is done;
     /// returns the iterations (summed over the viscous components).
-    fn iterate(&mut self, first: &[Pass], which: usize) -> Result<usize, FlowError> {
+    fn iterate(
+        &mut self,
+        first: &[Pass],
+        which: usize,
+        tail: &[Pass],
+    ) -> Result<(usize, Vec<f64>), FlowError> {
         let levels = self.mem.levels.len();
         let solves: Vec<usize> = match which {
             0 => self.active().iter().map(|&(c, _)| c).collect(),
@@ -385,6 +389,7 @@ impl Flow {
         loop {
             let batch = self.batch[which].clamp(1, most - taken);
             lists.extend(std::iter::repeat_n(iteration.as_slice(), batch));
+            lists.push(tail);
             self.run(&lists)?;
             taken += batch;
             lists.clear();
@@ -398,7 +403,7 @@ impl Flow {
             if solves.iter().all(|&k| at(k, slot::DONE) != 0.0) {
                 let most_taken = iterations.iter().copied().max().unwrap_or(0);
                 self.batch[which] = most_taken.max(1);
-                return Ok(iterations.iter().sum());
+                return Ok((iterations.iter().sum(), s));
             }
             if taken >= most {
                 let k = *solves.iter().find(|&&k| at(k, slot::DONE) == 0.0).unwrap();

@@ -104,11 +104,13 @@ fn thread(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
     return gid.x + gid.y * groups.x * WG;
 }
 
-// Whether this pass is skipped: its solve is done (guard 1), or its
-// right-hand side was not zero (guard 2).
+// Whether this pass is skipped: its solve is done (guard 1), its
+// right-hand side was not zero (guard 2), or its solve is not done yet
+// (guard 3: the step's end, submitted behind each batch of iterations).
 fn skipped() -> bool {
     let done = s[op.solve + DONE];
-    return (op.guard == 1u && done != 0.0) || (op.guard == 2u && done != 2.0);
+    return (op.guard == 1u && done != 0.0) || (op.guard == 2u && done != 2.0)
+        || (op.guard == 3u && done == 0.0);
 }
 
 // The padded coordinates of thread t of the op's box, and whether it is in it.

@@ -68,7 +68,7 @@ impl Plan {
         let pressure_iteration = x.pressure_iteration();
         let end = x.end();
         let mut measure = Vec::new();
-        x.courant(&mut measure);
+        x.courant(&mut measure, NONE);
         let forcing = x.records.len();
         x.records
             .extend(std::iter::repeat_n([0; 20], FORCING_RECORDS));
@@ -557,34 +557,41 @@ impl Builder<'_> {
 
     /// φ mean-free, u ← u* − Δt∇φ, the pressure update, and the Courant
     /// number of the new state.
+    /// Submitted behind each batch of the pressure solve's iterations,
+    /// each pass running only once the solve is done (guard 3), so that a
+    /// step whose solve converges within its batch needs no submit more.
     fn end(&mut self) -> Vec<Pass> {
         let mut list = Vec::new();
         let m = self.mem.clone();
+        let g = Guard {
+            guard: 3,
+            ..self.pressure()
+        };
         if self.b.singular() {
-            self.remove_mean(&mut list, m.phi, NONE);
+            self.remove_mean(&mut list, m.phi, g);
         }
         for (c, _) in self.active() {
             let rec = self.faces(c, false);
-            self.push(&mut list, Kernel::Gradient, rec, NONE);
+            self.push(&mut list, Kernel::Gradient, rec, g);
         }
         let cells = Rec::flat(self.b.cells());
-        self.push(&mut list, Kernel::PressureUpdate, cells, NONE);
-        self.courant(&mut list);
+        self.push(&mut list, Kernel::PressureUpdate, cells, g);
+        self.courant(&mut list, g);
         list
     }
 
     /// s[COURANT] ← max over the cells of Σ_a|u_a|/h_a; s[FINITE] their
     /// sum, not finite where a velocity is not.
-    fn courant(&mut self, list: &mut Vec<Pass>) {
+    fn courant(&mut self, list: &mut Vec<Pass>, g: Guard) {
         let cells = Rec::flat(self.b.cells());
         let scratch = self.mem.scratch;
         let rec = Rec {
             o: [scratch, 0, 0, 0],
             ..cells
         };
-        self.push(list, Kernel::Courant, rec, NONE);
-        self.reduce(list, cells, (scratch, 0), 2, false, slot::COURANT, NONE);
-        self.reduce(list, cells, (scratch, 0), 1, false, slot::FINITE, NONE);
+        self.push(list, Kernel::Courant, rec, g);
+        self.reduce(list, cells, (scratch, 0), 2, false, slot::COURANT, g);
+        self.reduce(list, cells, (scratch, 0), 1, false, slot::FINITE, g);
     }
 
     fn active(&self) -> Vec<(usize, crate::memory::Component)> {

@@ -213,7 +213,7 @@ fn coarsest(@builtin(local_invocation_index) local: u32) {
 @compute @workgroup_size(256)
 fn gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let t = thread(gid, groups);
-    if t >= box_size() {
+    if t >= box_size() || skipped() {
         return;
     }
     let pc = box_coords(t);
@@ -226,7 +226,7 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
 @compute @workgroup_size(256)
 fn pressure_update(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let t = thread(gid, groups);
-    if t >= op.count {
+    if t >= op.count || skipped() {
         return;
     }
     wr(Q_OFF + t, rd(Q_OFF + t) + (rd(PHI_OFF + t) + s[ALPHA] * poisson(0u, PHI_OFF, t)));
@@ -237,7 +237,7 @@ fn pressure_update(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
 @compute @workgroup_size(256)
 fn courant(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let t = thread(gid, groups);
-    if t >= op.count {
+    if t >= op.count || skipped() {
         return;
     }
     let c = vec3<i32>(cell_coords(NC, t));

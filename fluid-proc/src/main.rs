@@ -10,8 +10,10 @@ fn main() {
     // coupling) and writes run checkpoints (restart).
     scenario::answer_check(|path, text| {
         let scene = Scene::load(path, text)?;
-        check_device(&scene, path, text)?;
-        Ok(answer(&scene))
+        let device = check_device(&scene, path, text)?;
+        let mut answer = answer(&scene);
+        answer.notes.extend(device);
+        Ok(answer)
     });
     if let Err(e) = fluid_proc::driver::run() {
         eprintln!("fluid-proc: {e}");
@@ -36,17 +38,20 @@ fn answer(scene: &Scene) -> scenario::Answer {
 }
 
 /// `device = "gpu"` needs an adapter that takes the box: where none does,
-/// that is a problem of the key that asks for it.
-fn check_device(scene: &Scene, path: &Path, text: &str) -> Result<(), ScenarioError> {
+/// that is a problem of the key that asks for it. Where one does, a note
+/// names it.
+fn check_device(scene: &Scene, path: &Path, text: &str) -> Result<Option<String>, ScenarioError> {
     if scene.fluid.device != Device::Gpu {
-        return Ok(());
+        return Ok(None);
     }
-    let Err(why) = fluid_proc::incompressible::device::probe(&scene.fluid) else {
-        return Ok(());
+    let why = match fluid_proc::incompressible::device::probe(&scene.fluid) {
+        Ok(adapter) => return Ok(Some(format!("the flow runs on {adapter}"))),
+        Err(why) => why,
     };
     section::checked(path, text, |c| {
         c.within("fluid", None, |c| {
             c.problem(&["device"], format!("device = \"gpu\": {why}"))
         })
-    })
+    })?;
+    Ok(None)
 }

@@ -69,11 +69,13 @@ pub fn device_box(flow: &Incompressible) -> Result<FlowBox, String> {
 }
 
 /// Whether the first adapter takes the section's flow: the `--check`
-/// answer of `device = "gpu"` (the kernels built, nothing run).
-pub fn probe(section: &FluidSection) -> Result<(), String> {
+/// answer of `device = "gpu"` (the kernels built, nothing run). The
+/// adapter's name and precision where it does.
+pub fn probe(section: &FluidSection) -> Result<String, String> {
     let mut flow = flow_from(section).ok_or("[fluid] has no box")?;
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
-    flow.to_device(&gpu)
+    flow.to_device(&gpu)?;
+    Ok(format!("{} in {:?}", gpu.name(), gpu.precision()))
 }
 
 impl Incompressible {
