@@ -11,11 +11,20 @@
 //! device between steps, and a solve's iterations run there too, its sums
 //! and flags in a buffer of scalars, the host reading back only the flags.
 //!
-//! It covers a uniform box on one rank with sides of given velocity,
-//! outflow or periodic, and nothing in the flow: the markers of bodies and
-//! the canopy, a graded box, a parabolic inflow and a box that follows the
-//! parachute stay on the CPU for now (fluid-section's check refuses them
-//! with `device = "gpu"`).
+//! It covers a uniform box on one rank, every kind of side, the box
+//! moving with the parachute ([`Moving`]), and bodies and the canopy in the
+//! flow ([`Flow::set_markers`]: Peskin's δ, spread race-free by colouring,
+//! `markers.rs`); under implicit coupling a window's start and its first
+//! prediction stay on the device (`window.rs`). A graded box and several
+//! ranks stay on the CPU for now (fluid-section's check refuses them with
+//! `device = "gpu"`).
+//!
+//! The files: `flow.rs` (the solver and its step), `state.rs` (what
+//! crosses to the host), `window.rs`, `markers.rs`, `plan.rs` and `pass.rs`
+//! (the step's dispatches), `memory.rs` (where each array and scalar
+//! lies), `kernels.rs` (the WGSL, its bindings and pipelines), `spec.rs`
+//! (the box); the kernels in `flow.wgsl` (bindings, layouts, sides),
+//! `advection.wgsl`, `solve.wgsl`, `projection.wgsl`, `forcing.wgsl`.
 
 mod flow;
 mod kernels;

@@ -438,3 +438,30 @@ fn a_window_taken_again_on_the_device_is_the_same_window() {
     let (du, dq) = difference(&cpu, &dev);
     assert!(du < 1e-8 && dq < 1e-6, "device − CPU: u {du:e}, q {dq:e}");
 }
+
+/// A step too long for the explicit advection (Courant number above
+/// MAX_COURANT, `fluid_section::flow`) is refused on the device as on the
+/// CPU, with the same Courant number, and leaves the flow as it was.
+#[test]
+fn a_step_too_long_is_refused_on_the_device_as_on_the_cpu() {
+    use fluid_proc::incompressible::FlowError;
+    let Some(gpu) = device() else { return };
+    let n = 32;
+    let (mut cpu, mut dev) = (taylor_green(n), taylor_green(n));
+    dev.to_device(&gpu).unwrap();
+    let before = dev.u.clone();
+    let refused = |e: Result<_, FlowError>| match e {
+        Err(FlowError::Courant(c)) => c,
+        other => panic!(
+            "not refused for its Courant number: {:?}",
+            other.map(|_: fluid_proc::incompressible::StepReport| ())
+        ),
+    };
+    let (a, b) = (refused(cpu.step(1.0)), refused(dev.step(1.0)));
+    assert!(
+        (a - b).abs() <= 1e-12 * a && a > 5.0,
+        "Courant {a} on the CPU, {b} on the device"
+    );
+    dev.fetch().unwrap();
+    assert_eq!(dev.u, before, "the refused step changed nothing");
+}

@@ -6,11 +6,14 @@
 //! [`Incompressible::step`] called alone; a restore, or anything else that
 //! sets the state on the host, sends it up again before the next step.
 //!
-//! The device covers a uniform box on one rank with sides of given
-//! velocity, outflow or periodic, with the bodies and the canopy in it
-//! (their markers sent when they move, what the forcing gave the fluid
-//! brought back with u and q): what it does not cover, fluid-section's
-//! check refuses with `device = "gpu"`, and [`device_box`] says why here.
+//! The device covers a uniform box on one rank, every kind of side, the box
+//! following the parachute, and the bodies and the canopy in it (their
+//! markers sent when they move, what the forcing gave the fluid brought
+//! back with u and q). Under implicit coupling a window's start is copied
+//! on the device, and its checkpoint leaves the step history there
+//! ([`Incompressible::snapshot_window`]). What it does not cover,
+//! fluid-section's check refuses with `device = "gpu"`, and [`device_box`]
+//! says why here.
 
 use crate::incompressible::checkpoint::History;
 use crate::incompressible::immersed::ImmersedBody;
