@@ -164,32 +164,6 @@ pub(crate) fn pipelines(
     layout: &wgpu::BindGroupLayout,
     source: &str,
 ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
-    device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("flow"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("flow"),
-        bind_group_layouts: &[layout],
-        push_constant_ranges: &[],
-    });
-    let made = KERNELS
-        .iter()
-        .map(|entry| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        })
-        .collect();
     debug_assert_eq!(KERNELS.len(), Kernel::Spread as usize + 1);
-    match pollster::block_on(device.pop_error_scope()) {
-        Some(e) => Err(GpuError::Kernel(e.to_string())),
-        None => Ok(made),
-    }
+    gpu_device::pipelines(device, layout, "flow", source, &KERNELS)
 }

@@ -34,6 +34,7 @@ mod pass;
 mod plan;
 mod spec;
 mod state;
+mod vcycle;
 mod window;
 
 pub use flow::{given, Flow, FlowError, Moving, Report, TOLERANCE, TOLERANCE_F32};

@@ -13,12 +13,12 @@ use gpu_device::workgroups;
 
 /// Which solve a pass belongs to and whether it stops with it.
 #[derive(Debug, Clone, Copy)]
-struct Guard {
+pub(crate) struct Guard {
     solve: usize,
     guard: u32,
 }
 
-const NONE: Guard = Guard { solve: 0, guard: 0 };
+pub(crate) const NONE: Guard = Guard { solve: 0, guard: 0 };
 
 /// The step's lists of passes and their records.
 pub(crate) struct Plan {
@@ -42,9 +42,9 @@ pub(crate) struct Plan {
     pub forcing: usize,
 }
 
-struct Builder<'a> {
-    b: &'a FlowBox,
-    mem: &'a Memory,
+pub(crate) struct Builder<'a> {
+    pub(crate) b: &'a FlowBox,
+    pub(crate) mem: &'a Memory,
     records: Vec<[u32; 20]>,
     partials: usize,
 }
@@ -89,7 +89,7 @@ impl Plan {
 }
 
 impl Builder<'_> {
-    fn push(&mut self, list: &mut Vec<Pass>, kernel: Kernel, rec: Rec, g: Guard) {
+    pub(crate) fn push(&mut self, list: &mut Vec<Pass>, kernel: Kernel, rec: Rec, g: Guard) {
         let rec = Rec {
             solve: g.solve,
             guard: g.guard,
@@ -178,7 +178,7 @@ impl Builder<'_> {
 
     /// out = y + sign·s[coef]·z over `rec`'s box (no y: `y = None`).
     #[allow(clippy::too_many_arguments)]
-    fn lin(
+    pub(crate) fn lin(
         &mut self,
         list: &mut Vec<Pass>,
         rec: Rec,
@@ -244,7 +244,7 @@ impl Builder<'_> {
     }
 
     /// x ← x − its mean over the cells.
-    fn remove_mean(&mut self, list: &mut Vec<Pass>, x: usize, g: Guard) {
+    pub(crate) fn remove_mean(&mut self, list: &mut Vec<Pass>, x: usize, g: Guard) {
         let cells = Rec::flat(self.b.cells());
         self.reduce(list, cells, (x, 0), 1, true, slot::TMP, g);
         let rec = Rec {
@@ -491,70 +491,6 @@ impl Builder<'_> {
         list
     }
 
-    /// z = M⁻¹r: one V-cycle from zero, mean-free where A is singular.
-    fn precondition(&mut self, list: &mut Vec<Pass>, g: Guard) {
-        self.cycle(list, 0, g);
-        if self.b.singular() {
-            self.remove_mean(list, self.mem.z, g);
-        }
-    }
-
-    /// The V-cycle from level l (fluid-proc's multigrid.rs): two red–black
-    /// sweeps before and after the coarse correction.
-    fn cycle(&mut self, list: &mut Vec<Pass>, l: usize, g: Guard) {
-        let levels = self.mem.levels.clone();
-        let level = levels[l];
-        let count = level.count();
-        let here = Rec {
-            comp: l,
-            ..Rec::flat(count)
-        };
-        if l + 1 == levels.len() {
-            let rec = Rec {
-                o: [level.b, level.x, 0, 0],
-                ..here
-            };
-            self.push(list, Kernel::Coarsest, rec, NONE);
-            return;
-        }
-        self.lin(list, here, level.x, None, (false, slot::ZERO), level.x, g);
-        let sweep = |x: &mut Builder, list: &mut Vec<Pass>, colour: usize| {
-            let rec = Rec {
-                o: [level.b, level.x, 0, 0],
-                aux: colour,
-                ..here
-            };
-            x.push(list, Kernel::Smooth, rec, g);
-        };
-        for _ in 0..SWEEPS {
-            sweep(self, list, 0);
-            sweep(self, list, 1);
-        }
-        let rec = Rec {
-            o: [level.x, level.r, level.b, 0],
-            kind: 1,
-            ..here
-        };
-        self.push(list, Kernel::PoissonApply, rec, g);
-        let coarse = levels[l + 1];
-        let rec = Rec {
-            o: [level.r, coarse.b, 0, 0],
-            comp: l,
-            ..Rec::flat(coarse.count())
-        };
-        self.push(list, Kernel::Restrict, rec, g);
-        self.cycle(list, l + 1, g);
-        let rec = Rec {
-            o: [level.x, coarse.x, 0, 0],
-            ..here
-        };
-        self.push(list, Kernel::Prolong, rec, g);
-        for _ in 0..SWEEPS {
-            sweep(self, list, 1);
-            sweep(self, list, 0);
-        }
-    }
-
     /// φ mean-free, u ← u* − Δt∇φ, the pressure update, and the Courant
     /// number of the new state.
     /// Submitted behind each batch of the pressure solve's iterations,
@@ -600,7 +536,3 @@ impl Builder<'_> {
             .collect()
     }
 }
-
-/// Red–black sweeps before and after a level's coarse correction
-/// (fluid-proc's multigrid.rs).
-const SWEEPS: usize = 2;

@@ -21,10 +21,11 @@ fn divergence(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     wr(op.o0 + t, div * (-1.0 / s[DT]));
 }
 
-// (A x)_c = −∇²ₕx at cell t of level l, x at `off` (fluid-proc's
-// laplacian.rs): a side of given velocity drops its term, an outflow
-// (φ = 0 on the face) doubles it, a periodic side wraps.
-fn poisson(l: u32, off: u32, t: u32) -> real {
+// The 7-point stencil of A = −∇²ₕ at cell t of level l, x at `off`
+// (fluid-proc's laplacian.rs): its diagonal and the weighted sum of the
+// neighbours, A x = diagonal·x − sum. A side of given velocity drops its
+// term, an outflow (φ = 0 on the face) doubles it, a periodic side wraps.
+fn stencil(l: u32, off: u32, t: u32) -> vec2<real> {
     let n = LEVEL_N[l];
     let c = cell_coords(n, t);
     var diag: real = 0.0;
@@ -54,30 +55,13 @@ fn poisson(l: u32, off: u32, t: u32) -> real {
             sum += w * rd(off + cell_index(n, m));
         }
     }
-    return diag * rd(off + t) - sum;
+    return vec2<real>(diag, sum);
 }
 
-// A's diagonal at cell t of level l.
-fn poisson_diagonal(l: u32, t: u32) -> real {
-    let n = LEVEL_N[l];
-    let c = cell_coords(n, t);
-    var diag: real = 0.0;
-    for (var d = 0u; d < 3u; d++) {
-        if n[d] == 1u {
-            continue;
-        }
-        let w = s[LEVEL_H2 + 3u * l + d];
-        for (var up = 0u; up < 2u; up++) {
-            let at_side = select(c[d] == 0u, c[d] + 1u == n[d], up == 1u);
-            let side = SIDE[2u * d + up];
-            if !at_side || side == PERIODIC {
-                diag += w;
-            } else if side == OUTFLOW {
-                diag += 2.0 * w;
-            }
-        }
-    }
-    return diag;
+// (A x)_c at cell t of level l, x at `off`.
+fn poisson(l: u32, off: u32, t: u32) -> real {
+    let a = stencil(l, off, t);
+    return a.x * rd(off + t) - a.y;
 }
 
 // On level op.comp: o1 ← A x (kind 0) or b − A x (kind 1), x at o0, b at o2.
@@ -102,10 +86,10 @@ fn relax(l: u32, bo: u32, xo: u32, t: u32, colour: u32) {
     if (c.x + c.y + c.z) % 2u != colour {
         return;
     }
-    let d = poisson_diagonal(l, t);
-    if d != 0.0 {
-        // A x = d·x − Σ: x ← (b + Σ)/d = x + (b − A x)/d.
-        wr(xo + t, rd(xo + t) + ((rd(bo + t) - poisson(l, xo, t)) / d));
+    let a = stencil(l, xo, t);
+    if a.x != 0.0 {
+        // A x = d·x − Σ: x ← (b + Σ)/d, as fluid-proc's Gauss–Seidel.
+        wr(xo + t, (rd(bo + t) + a.y) / a.x);
     }
 }
 

@@ -51,6 +51,14 @@ fn difference(a: &Incompressible, b: &Incompressible) -> (f64, f64) {
     (a.u.max_difference(&b.u), dq)
 }
 
+/// The lid-driven cube of 16³ cells of 1/16 m, ν = 0.01 m²/s, its lid
+/// (the high y side) sliding along x at 1 m/s.
+fn lid_cube() -> Incompressible {
+    let mut sides = [[Side::WALL; 2]; 3];
+    sides[1][1] = Side::Velocity([1.0, 0.0, 0.0]);
+    flow([16; 3], 1.0 / 16.0, sides, 0.01)
+}
+
 /// Taylor–Green on the periodic square [0, 2π]² (taylor_green.rs): u =
 /// sin x cos y e^{−2νt}, v = −cos x sin y e^{−2νt}.
 fn taylor_green(n: usize) -> Incompressible {
@@ -213,11 +221,8 @@ fn the_lid_driven_cavity_and_cube_on_the_device_are_the_cpu_flows() {
 #[test]
 fn the_cube_in_four_bindings_is_the_cpu_flow() {
     let Some(gpu) = device() else { return };
-    let mut sides = [[Side::WALL; 2]; 3];
-    sides[1][1] = Side::Velocity([1.0, 0.0, 0.0]);
-    let (n, h) = ([16, 16, 16], 1.0 / 16.0);
-    let mut cpu = flow(n, h, sides, 0.01);
-    let mut dev = flow(n, h, sides, 0.01);
+    let h = 1.0 / 16.0;
+    let (mut cpu, mut dev) = (lid_cube(), lid_cube());
     // The arrays hold about 3.1·10⁵ reals (2.5 MB in f64): bindings of
     // 0.7 MB take four, and an odd size puts their ends mid-array.
     dev.to_device_binding_at_most(&gpu, 700_001).unwrap();
@@ -391,11 +396,8 @@ fn porous_and_closed_sheets_on_the_device_are_the_cpu_flows() {
 fn a_window_taken_again_on_the_device_is_the_same_window() {
     use fluid_proc::incompressible::checkpoint::Checkpoint;
     let Some(gpu) = device() else { return };
-    let mut sides = [[Side::WALL; 2]; 3];
-    sides[1][1] = Side::Velocity([1.0, 0.0, 0.0]);
-    let (n, h) = ([16, 16, 16], 1.0 / 16.0);
-    let mut cpu = flow(n, h, sides, 0.01);
-    let mut dev = flow(n, h, sides, 0.01);
+    let h = 1.0 / 16.0;
+    let (mut cpu, mut dev) = (lid_cube(), lid_cube());
     dev.to_device(&gpu).unwrap();
     let dt = 0.25 * h;
     run_both(&mut cpu, &mut dev, dt, 5);

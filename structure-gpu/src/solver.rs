@@ -427,33 +427,14 @@ fn pipelines(
     layout: &wgpu::BindGroupLayout,
     source: &str,
 ) -> Result<Pipelines, GpuError> {
-    device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("structure"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("structure"),
-        bind_group_layouts: &[layout],
-        push_constant_ranges: &[],
-    });
-    let pipeline = |entry: &str| {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-    };
-    let pipelines = Pipelines {
-        slots: pipeline("element_slots"),
-        gather: pipeline("gather"),
-        combine: pipeline("combine"),
-    };
-    match pollster::block_on(device.pop_error_scope()) {
-        Some(e) => Err(GpuError::Kernel(e.to_string())),
-        None => Ok(pipelines),
-    }
+    let entries = ["element_slots", "gather", "combine"];
+    let [slots, gather, combine]: [wgpu::ComputePipeline; 3] =
+        gpu_device::pipelines(device, layout, "structure", source, &entries)?
+            .try_into()
+            .expect("a pipeline an entry");
+    Ok(Pipelines {
+        slots,
+        gather,
+        combine,
+    })
 }
