@@ -63,6 +63,18 @@ pub fn given(sides: &[[Side; 2]; 3]) -> [[[f64; 3]; 2]; 3] {
     })
 }
 
+/// The flow's monitors as the device sums them: Σ|v|² and Σv over the
+/// cells (v the mean of a cell's faces along each axis), the largest
+/// |∇·u| [1/s], and the largest change of a face velocity since
+/// [`Flow::remember`] [m/s].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Monitors {
+    pub sum_squares: f64,
+    pub sum: [f64; 3],
+    pub max_divergence: f64,
+    pub max_change: f64,
+}
+
 /// What a step did.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Report {
@@ -274,6 +286,27 @@ impl Flow {
             true => self.courant[0] * dt,
             false => f64::NAN,
         }
+    }
+
+    /// Copies u as the window's start, for [`Monitors::max_change`].
+    pub fn remember(&mut self) -> Result<(), GpuError> {
+        self.run(&[&self.plan.remember])
+    }
+
+    /// The monitors of the state as it is, summed on the device.
+    pub fn monitors(&mut self) -> Result<Monitors, GpuError> {
+        self.run(&[&self.plan.monitors])?;
+        let s = self.read_scalars()?;
+        let m = &s[slot::MON..slot::MON + 8];
+        Ok(Monitors {
+            sum_squares: m[0],
+            sum: [m[1], m[2], m[3]],
+            max_divergence: m[4],
+            max_change: (0..3)
+                .filter(|&c| self.mem.comp[c].is_some())
+                .map(|c| m[5 + c])
+                .fold(0.0, f64::max),
+        })
     }
 
     /// Measures the state's Courant number.

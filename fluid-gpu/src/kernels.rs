@@ -73,6 +73,7 @@ pub(crate) fn source(
         include_str!("solve.wgsl"),
         include_str!("projection.wgsl"),
         include_str!("forcing.wgsl"),
+        include_str!("monitors.wgsl"),
     ];
     h + &parts.join("\n")
 }
@@ -164,6 +165,6 @@ pub(crate) fn pipelines(
     layout: &wgpu::BindGroupLayout,
     source: &str,
 ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
-    debug_assert_eq!(KERNELS.len(), Kernel::Spread as usize + 1);
+    debug_assert_eq!(KERNELS.len(), Kernel::FaceChange as usize + 1);
     gpu_device::pipelines(device, layout, "flow", source, &KERNELS)
 }

@@ -37,7 +37,7 @@ mod state;
 mod vcycle;
 mod window;
 
-pub use flow::{given, Flow, FlowError, Moving, Report, TOLERANCE, TOLERANCE_F32};
+pub use flow::{given, Flow, FlowError, Monitors, Moving, Report, TOLERANCE, TOLERANCE_F32};
 pub use gpu_device::{Gpu, GpuError, Precision};
 pub use markers::{Law, Marker};
 pub use spec::{FlowBox, Side, GHOSTS};

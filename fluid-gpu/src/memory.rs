@@ -18,6 +18,8 @@ pub(crate) struct Component {
     pub p: usize,
     pub r: usize,
     pub q: usize,
+    /// uⁿ at the window's start, for the steady residual (`monitors`).
+    pub before: usize,
 }
 
 /// One multigrid level's right-hand side, correction and residual.
@@ -75,6 +77,7 @@ impl Memory {
                     p: take(len),
                     r: take(len),
                     q: take(len),
+                    before: take(len),
                 }
             })
         });
@@ -150,7 +153,11 @@ pub(crate) mod slot {
     pub const SIDE_END: usize = 41;
     pub const FRAME: usize = 59;
     pub const DV: usize = 62;
-    pub const LEVEL_H2: usize = 65;
+    /// The flow's monitors, summed on the device (flow.rs's `Monitors`):
+    /// Σ|v|², Σv (3) and the largest |∇·u| over the cells, then the largest
+    /// change of a face velocity since the window's start, per component.
+    pub const MON: usize = 65;
+    pub const LEVEL_H2: usize = 73;
     /// Slots a solve's block holds (flow.wgsl's DONE … SCALE).
     pub const BLOCK: usize = 16;
     pub const DONE: usize = 0;
@@ -168,7 +175,7 @@ pub(crate) mod slot {
     pub const SCALE: usize = 13;
 
     /// The named constants the kernels read, as (name, slot).
-    pub const NAMED: [(&str, usize); 25] = [
+    pub const NAMED: [(&str, usize); 26] = [
         ("DT", DT),
         ("AB0", AB0),
         ("AB1", AB1),
@@ -193,6 +200,7 @@ pub(crate) mod slot {
         ("SIDE_END", SIDE_END),
         ("FRAME", FRAME),
         ("DV", DV),
+        ("MON", MON),
         ("BLOCK", BLOCK),
     ];
 }

@@ -28,9 +28,11 @@ pub(crate) enum Kernel {
     Interpolate,
     Pushes,
     Spread,
+    CellMonitor,
+    FaceChange,
 }
 
-pub(crate) const KERNELS: [&str; 21] = [
+pub(crate) const KERNELS: [&str; 23] = [
     "ghosts",
     "rhs",
     "helm_residual",
@@ -52,6 +54,8 @@ pub(crate) const KERNELS: [&str; 21] = [
     "interpolate",
     "pushes",
     "spread",
+    "cell_monitor",
+    "face_change",
 ];
 
 /// Threads a workgroup of `spread` (flow.wgsl): a thread a block.

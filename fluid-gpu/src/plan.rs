@@ -35,6 +35,9 @@ pub(crate) struct Plan {
     pub end: Vec<Pass>,
     /// The Courant number of the state as it is (after an upload).
     pub measure: Vec<Pass>,
+    /// u copied as the window's start, and the monitors since (`MON`).
+    pub remember: Vec<Pass>,
+    pub monitors: Vec<Pass>,
     /// Most partial sums a reduction writes.
     pub partials: usize,
     /// The first of the FORCING_RECORDS records the markers' passes take
@@ -69,6 +72,8 @@ impl Plan {
         let end = x.end();
         let mut measure = Vec::new();
         x.courant(&mut measure, NONE);
+        let remember = x.remember();
+        let monitors = x.monitors();
         let forcing = x.records.len();
         x.records
             .extend(std::iter::repeat_n([0; 20], FORCING_RECORDS));
@@ -82,6 +87,8 @@ impl Plan {
             pressure_iteration,
             end,
             measure,
+            remember,
+            monitors,
             partials: x.partials,
             forcing,
         }
@@ -104,7 +111,8 @@ impl Builder<'_> {
             | Kernel::Restrict
             | Kernel::Prolong
             | Kernel::PressureUpdate
-            | Kernel::Courant => workgroups(rec.count as u32, WORKGROUP),
+            | Kernel::Courant
+            | Kernel::CellMonitor => workgroups(rec.count as u32, WORKGROUP),
             _ => workgroups(rec.threads() as u32, WORKGROUP),
         };
         list.push(Pass {
@@ -513,6 +521,57 @@ impl Builder<'_> {
         let cells = Rec::flat(self.b.cells());
         self.push(&mut list, Kernel::PressureUpdate, cells, g);
         self.courant(&mut list, g);
+        list
+    }
+
+    /// Each component's u, ghosts and all, copied as the window's start.
+    fn remember(&mut self) -> Vec<Pass> {
+        let mut list = Vec::new();
+        for (c, a) in self.active() {
+            let all = Rec {
+                e: self.b.dims(c),
+                s: self.b.strides(c),
+                ..Rec::default()
+            };
+            self.lin(
+                &mut list,
+                all,
+                a.before,
+                None,
+                (false, slot::ONE),
+                a.u,
+                NONE,
+            );
+        }
+        list
+    }
+
+    /// The monitors into s[MON …]: Σ|v|², Σv and the largest |∇·u| over
+    /// the cells, and each component's largest change since `remember`.
+    fn monitors(&mut self) -> Vec<Pass> {
+        let mut list = Vec::new();
+        let cells = Rec::flat(self.b.cells());
+        let scratch = self.mem.scratch;
+        for kind in 0..5 {
+            let rec = Rec {
+                o: [scratch, 0, 0, 0],
+                kind,
+                ..cells
+            };
+            self.push(&mut list, Kernel::CellMonitor, rec, NONE);
+            let reduce = if kind == 4 { 2 } else { 1 };
+            let at = slot::MON + kind as usize;
+            self.reduce(&mut list, cells, (scratch, 0), reduce, false, at, NONE);
+        }
+        for (c, a) in self.active() {
+            let faces = Rec {
+                o: [a.u, a.q, a.before, 0],
+                ..self.faces(c, false)
+            };
+            self.push(&mut list, Kernel::FaceChange, faces, NONE);
+            let at = slot::MON + 5 + c;
+            self.reduce(&mut list, faces, (a.q, 0), 2, false, at, NONE);
+        }
         list
     }
 

@@ -141,6 +141,27 @@ impl Flow {
         Ok(())
     }
 
+    /// The face velocities alone, as [`Flow::upload`] takes them.
+    pub fn download_velocities(&self, u: &mut [Vec<f64>; 3]) -> Result<(), GpuError> {
+        let active = self.active();
+        let ranges: Vec<(usize, usize)> = active
+            .iter()
+            .map(|&(c, a)| (a.u, self.spec.padded_len(c)))
+            .collect();
+        let read = self.read_arrays(&ranges)?;
+        for (&(c, _), padded) in active.iter().zip(&read) {
+            self.unpadded(c, padded, &mut u[c]);
+        }
+        Ok(())
+    }
+
+    /// The kinematic pressure alone [m²/s²].
+    pub fn download_pressure(&self, q: &mut [f64]) -> Result<(), GpuError> {
+        let read = self.read_arrays(&[(self.mem.q, self.spec.cells())])?;
+        q.copy_from_slice(&read[0]);
+        Ok(())
+    }
+
     /// Component c's faces from its `padded` array, ghosts left out.
     fn unpadded(&self, c: usize, padded: &[f64], faces: &mut Vec<f64>) {
         let b = &self.spec;

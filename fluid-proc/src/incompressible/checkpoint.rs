@@ -60,13 +60,23 @@ impl Checkpoint {
 impl Incompressible {
     /// Save this rank's flow into `into`.
     pub fn save(&self, into: &mut Checkpoint) {
-        match &mut into.u {
-            Some(u) => u.clone_from(&self.u),
-            None => into.u = Some(self.u.clone()),
+        // A window's checkpoint whose start the device copied keeps the
+        // host's velocities as they are (a restore reads the device's);
+        // any other takes the device's where the host's are older.
+        into.on_device = self.take_snapshot();
+        let u = into.u.get_or_insert_with(|| self.u.clone());
+        let read = match into.on_device {
+            true => {
+                u.clone_from(&self.u);
+                Ok(())
+            }
+            false => self.velocities_into(u),
+        };
+        if let Err(e) = read {
+            eprintln!("fluid-proc: {e}");
         }
         into.q.clone_from(&self.q);
         into.time = self.time;
-        into.on_device = self.take_snapshot();
         if !into.on_device {
             self.save_history(&mut into.history);
         }
@@ -85,12 +95,13 @@ impl Incompressible {
     /// the flow as it is.
     pub fn restore(&mut self, from: &Checkpoint) {
         let Some(u) = &from.u else { return };
+        // The device's own copy of the window's start, where it took one;
+        // else the state goes up before the next step.
+        let on_device = from.on_device && self.restore_snapshot();
         self.u.clone_from(u);
         self.q.clone_from(&from.q);
         self.time = from.time;
-        // The device's own copy of the window's start, where it took one;
-        // else the state goes up before the next step.
-        if !(from.on_device && self.restore_snapshot()) {
+        if !on_device {
             self.restore_history(&from.history);
         }
         self.bodies.clone_from(&from.bodies);

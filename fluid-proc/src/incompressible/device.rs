@@ -26,13 +26,16 @@ use fluid_section::FluidSection;
 
 /// The flow on the device, and whether it holds the current state.
 pub(crate) struct OnDevice {
-    flow: Flow,
+    pub(crate) flow: Flow,
     /// The markers the device forces the air at, as last sent.
     markers: Vec<Marker>,
     /// The device holds the current state (else the host does).
-    current: bool,
-    /// The host's `u` and `q` are older than the device's.
-    host_stale: bool,
+    pub(crate) current: bool,
+    /// The host's `u`, and its `q`, are older than the device's: a
+    /// window's end brings q back for the exchanged fields, u only where
+    /// something on the host reads it (`device_fetch.rs`).
+    pub(crate) u_stale: bool,
+    pub(crate) q_stale: bool,
     /// A window's start was just copied on the device
     /// ([`Incompressible::snapshot_window`]); the next save takes it.
     snapshot_taken: std::cell::Cell<bool>,
@@ -96,7 +99,8 @@ impl Incompressible {
             flow,
             markers: Vec::new(),
             current: false,
-            host_stale: false,
+            u_stale: false,
+            q_stale: false,
             snapshot_taken: std::cell::Cell::new(false),
         });
         Ok(())
@@ -107,10 +111,10 @@ impl Incompressible {
         self.device.is_some()
     }
 
-    /// The state on the host changed: send it up before the next step.
+    /// The state on the host was set: send it up before the next step.
     pub(crate) fn host_changed(&mut self) {
         if let Some(d) = &mut self.device {
-            d.current = false;
+            (d.current, d.u_stale, d.q_stale) = (false, false, false);
         }
     }
 
@@ -129,7 +133,7 @@ impl Incompressible {
     }
 
     /// Sends the host's state up where the device does not hold it.
-    fn send_state(&mut self) -> Result<(), FlowError> {
+    pub(crate) fn send_state(&mut self) -> Result<(), FlowError> {
         if self.device.as_ref().is_none_or(|d| d.current) {
             return Ok(());
         }
@@ -170,7 +174,10 @@ impl Incompressible {
         };
         match d.flow.restore_snapshot() {
             Ok(true) => {
-                d.host_stale = false;
+                // The host's q is the checkpoint's; its u may be older
+                // than the window's start, so it is read anew when needed.
+                d.q_stale = false;
+                d.u_stale = true;
                 true
             }
             _ => false,
@@ -233,7 +240,7 @@ impl Incompressible {
                 fluid_gpu::FlowError::NonFinite => FlowError::NonFinite,
                 e => FlowError::Device(e.to_string()),
             })?;
-        d.host_stale = true;
+        (d.u_stale, d.q_stale) = (true, true);
         for body in self.forced() {
             body.forced_for(dt);
         }
@@ -250,29 +257,9 @@ impl Incompressible {
 }
 
 impl Incompressible {
-    /// Brings the device's `u` and `q` to the host, where they are older.
-    pub fn fetch(&mut self) -> Result<(), FlowError> {
-        let Some(d) = self.device.as_mut().filter(|d| d.host_stale) else {
-            return Ok(());
-        };
-        d.flow.download(&mut self.u.u, &mut self.q).map_err(gpu)?;
-        d.host_stale = false;
-        let given = d.flow.take_given().map_err(gpu)?;
-        let grid = self.setup.grid.clone();
-        let mut given = given.into_iter();
-        for body in self.forced() {
-            for k in 0..body.markers.len() {
-                let push = given.next().unwrap_or_default();
-                let x = body.markers[k].x;
-                body.record(&grid, x, push);
-            }
-        }
-        Ok(())
-    }
-
     /// The bodies with markers, then the canopy: the ones the forcing
     /// holds the air at, in `immersed::force`'s order.
-    fn forced(&mut self) -> impl Iterator<Item = &mut ImmersedBody> {
+    pub(crate) fn forced(&mut self) -> impl Iterator<Item = &mut ImmersedBody> {
         self.bodies
             .iter_mut()
             .chain(self.canopy.as_mut())
@@ -312,6 +299,6 @@ fn given(sides: &crate::incompressible::side::Sides) -> [[[f64; 3]; 2]; 3] {
     })
 }
 
-fn gpu(e: fluid_gpu::GpuError) -> FlowError {
+pub(crate) fn gpu(e: fluid_gpu::GpuError) -> FlowError {
     FlowError::Device(e.to_string())
 }

@@ -68,8 +68,9 @@ pub mod probe;
 pub mod profile;
 // The model in the run loop (`run.rs` of the crate).
 pub mod run;
-// The step on a GPU (`[fluid] device = "gpu"`).
+// The step on a GPU (`[fluid] device = "gpu"`), and what crosses back.
 pub mod device;
+pub mod device_fetch;
 
 use crate::incompressible::checkpoint::History;
 use crate::incompressible::component::{adams_bashforth, by_component, ChangeInputs, Work};
@@ -252,6 +253,10 @@ impl Incompressible {
     /// repeats (and the faces two ranks share) equal, after the caller set
     /// `u`.
     pub fn impose_sides(&mut self) {
+        // From the current velocities: the device's, where it ran.
+        if let Err(e) = self.fetch_velocities() {
+            eprintln!("fluid-proc: {e}");
+        }
         self.host_changed();
         let (sides, side_by_side) = (&self.sides, self.side_by_side());
         let mut items: Vec<_> = self.padded.iter_mut().zip(&mut self.u.u).collect();

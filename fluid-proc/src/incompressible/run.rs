@@ -13,6 +13,7 @@
 use crate::comm::Comm;
 use crate::driver::{declaration, Error};
 use crate::incompressible::checkpoint::Checkpoint;
+use crate::incompressible::device_fetch::WindowMonitors;
 use crate::incompressible::faces::Faces;
 use crate::incompressible::flow_bodies::FlowBodies;
 use crate::incompressible::flow_canopy::FlowCanopy;
@@ -41,9 +42,12 @@ pub struct Flow {
 impl Flow {
     /// The box's cell pressures [Pa] and velocities [m/s] on rank 0, when
     /// probes read them (every rank calls it together).
-    fn probed(&self) -> Probed {
+    fn probed(&mut self) -> Probed {
         if !self.probing {
             return None;
+        }
+        if let Err(e) = self.flow.fetch_velocities() {
+            eprintln!("fluid-proc: {e}");
         }
         let pressure = self.flow.part.gather(&self.flow.pressure());
         let velocity = self.flow.part.gather(&self.flow.cell_velocity());
@@ -91,13 +95,18 @@ impl Model for Flow {
     }
 
     fn start(&mut self) -> Self::Started {
-        let m = monitors(&mut self.flow, StepReport::default(), f64::NAN);
+        let before = self.flow.u.clone();
+        let m = match self.flow.window_monitors(&before) {
+            Ok(m) => monitors(m, StepReport::default(), f64::NAN),
+            Err(_) => Vec::new(),
+        };
         (m, self.probed())
     }
 
     fn advance(&mut self, w: Window) -> Result<(Advanced, u64), String> {
         let flow = &mut self.flow;
-        self.before.clone_from(&flow.u);
+        flow.remember_window_start(&mut self.before)
+            .map_err(|e| format!("flow at t = {} s: {e}", flow.time))?;
         flow.share_bodies();
         flow.share_frame();
         let n = w.substeps.max(1);
@@ -107,13 +116,15 @@ impl Model for Flow {
                 .step_in_window(w.dt / n as f64, k == 0)
                 .map_err(|e| format!("flow step at t = {} s: {e}", flow.time))?;
         }
-        // The window's end state to the host, where it ran on a device.
-        flow.fetch()
+        // The window's end pressure to the host, where it ran on a device
+        // (the velocities stay there unless the host reads them).
+        flow.fetch_window_end()
             .map_err(|e| format!("flow at t = {} s: {e}", flow.time))?;
         let monitors = if w.window_end {
-            // How far from steady: max|∂u/∂t| over the window [m/s²].
-            let change = flow.max_change(&self.before) / w.dt;
-            monitors(flow, report, change)
+            let m = flow
+                .window_monitors(&self.before)
+                .map_err(|e| format!("flow at t = {} s: {e}", flow.time))?;
+            monitors(m, report, w.dt)
         } else {
             Vec::new()
         };
@@ -159,6 +170,10 @@ impl Model for Flow {
     }
 
     fn cells(&mut self) -> Option<Cells> {
+        if let Err(e) = self.flow.fetch_velocities() {
+            eprintln!("fluid-proc: the flow's output: {e}");
+            return None;
+        }
         let flow = &self.flow;
         let velocity = flow.part.gather(&flow.cell_velocity());
         let pressure = flow.part.gather(&flow.pressure());
@@ -195,16 +210,16 @@ const FLOW_MONITORS: [&str; 9] = [
     "viscous_iterations",
 ];
 
-/// Sums and maxima over every rank: every rank calls it together.
-fn monitors(flow: &mut Incompressible, r: StepReport, steady_residual: f64) -> Vec<Monitor> {
-    let momentum = flow.momentum();
+/// The flow's monitors of `m` and the step's report `r`; the steady
+/// residual max|∂u/∂t| over a window of `dt` [m/s²] (NaN at the start).
+fn monitors(m: WindowMonitors, r: StepReport, dt: f64) -> Vec<Monitor> {
     let values = [
-        flow.kinetic_energy(),
-        momentum[0],
-        momentum[1],
-        momentum[2],
-        flow.max_divergence(),
-        steady_residual,
+        m.kinetic_energy,
+        m.momentum[0],
+        m.momentum[1],
+        m.momentum[2],
+        m.max_divergence,
+        m.max_change / dt,
         r.courant,
         r.pressure_iterations as f64,
         r.viscous_iterations as f64,
