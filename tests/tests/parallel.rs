@@ -126,8 +126,11 @@ fn the_parallel_scheme_carries_the_closed_sheet_as_the_serial_one_does() {
 /// try costs the larger of the two solvers' times, not their sum. The
 /// shares are wall-clock and move with the machine's load: measured 54 %
 /// against 1.7 %, 15.5 % against 4.2 % (0.27 of it) and, beside another
-/// test's runs, 19.6 % against 7.7 % (0.39); asserted under half the
-/// serial share, the tests of this file taking turns.
+/// test's runs, 19.6 % against 7.7 % (0.39), 11.9 % against 1.9 % (0.16);
+/// asserted under half the serial share, the tests of this file taking
+/// turns. The serial share itself only has to show that the fluid waited
+/// (over 5 %): it is the structure's part of a try, which the machine's
+/// load moves (measured 9.6 % to 54 %).
 #[test]
 fn the_parallel_scheme_runs_the_closed_canopy_as_the_serial_one_with_the_solvers_at_once() {
     let _alone = alone();
@@ -163,7 +166,7 @@ fn the_parallel_scheme_runs_the_closed_canopy_as_the_serial_one_with_the_solvers
     let (serial_wait, parallel_wait) = (fluid_waits(&ms), fluid_waits(&mp));
     eprintln!("the fluid waited {serial_wait:.3} of its run serial, {parallel_wait:.3} parallel");
     assert!(
-        serial_wait > 0.1 && parallel_wait < 0.5 * serial_wait,
+        serial_wait > 0.05 && parallel_wait < 0.5 * serial_wait,
         "the fluid waited {serial_wait:.3} of its run under the serial scheme, \
          {parallel_wait:.3} under the parallel one"
     );
