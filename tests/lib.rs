@@ -204,6 +204,24 @@ pub fn coupler(args: &[&str]) -> Output {
         .expect("run coupler")
 }
 
+/// Whether `coupler check` passes `scenario`, which puts a section on the
+/// GPU. False, with a note, where it is refused for want of an adapter and
+/// `CANOPY_REQUIRE_GPU` is unset: the test then skips on a machine without
+/// one. Any other refusal fails the test, with the coupler's message.
+pub fn gpu_check_passes(scenario: &Path) -> bool {
+    let o = coupler(&["check", scenario.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    if !o.status.success()
+        && err.contains("no GPU adapter")
+        && std::env::var_os(gpu_device::REQUIRE_GPU).is_none()
+    {
+        eprintln!("skipped: {err}");
+        return false;
+    }
+    assert!(o.status.success(), "check of {}: {err}", scenario.display());
+    true
+}
+
 /// The command `coupler run scenario --out out`, not yet started.
 pub fn run_command(scenario: &Path, out: &Path) -> std::process::Command {
     let mut command = std::process::Command::new(coupler_exe());

@@ -11,23 +11,6 @@ use fluid_proc::incompressible::side::{bcs, Side, Sides};
 use fluid_proc::incompressible::{FlowSetup, Incompressible};
 use std::f64::consts::PI;
 
-/// The device, or `None` (with a note) where none is found and CI does not require one.
-fn device() -> Option<Gpu> {
-    device_in(None)
-}
-
-/// [`device`] in `precision` (the adapter's own where None).
-fn device_in(precision: Option<Precision>) -> Option<Gpu> {
-    match Gpu::with_precision(precision) {
-        Ok(gpu) => Some(gpu),
-        Err(e) if std::env::var_os("CANOPY_REQUIRE_GPU").is_none() => {
-            eprintln!("skipped: {e}");
-            None
-        }
-        Err(e) => panic!("CANOPY_REQUIRE_GPU is set: {e}"),
-    }
-}
-
 /// A flow of `n` cells of spacing `h` with these sides.
 fn flow(n: [usize; 3], h: f64, sides: Sides, nu: f64) -> Incompressible {
     let grid = Grid::uniform(n, [h; 3], bcs(&sides));
@@ -121,7 +104,9 @@ fn run_both(cpu: &mut Incompressible, gpu: &mut Incompressible, dt: f64, steps: 
 /// CPU path: between 3 and 5).
 #[test]
 fn taylor_green_on_the_device_is_the_cpu_flow_and_second_order() {
-    let Some(gpu) = device() else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let mut errors = Vec::new();
     for n in [32, 64] {
         let h = 2.0 * PI / n as f64;
@@ -156,7 +141,7 @@ fn taylor_green_on_the_device_is_the_cpu_flow_and_second_order() {
 /// which the f32 run keeps within 1 %.
 #[test]
 fn taylor_green_in_f32_stays_within_its_stated_error() {
-    let Some(gpu) = device_in(Some(Precision::F32)) else {
+    let Some(gpu) = Gpu::for_tests(Some(Precision::F32)) else {
         return;
     };
     let n = 32;
@@ -188,7 +173,9 @@ fn taylor_green_in_f32_stays_within_its_stated_error() {
 /// m/s of the CPU's (the lid's 1 m/s; the solves' tolerance 10⁻⁸ a step).
 #[test]
 fn the_lid_driven_cavity_and_cube_on_the_device_are_the_cpu_flows() {
-    let Some(gpu) = device() else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let lid = Side::Velocity([1.0, 0.0, 0.0]);
     for (n, steps) in [([32, 32, 1], 200), ([16, 16, 16], 40)] {
         let mut sides = [[Side::WALL; 2]; 3];
@@ -218,7 +205,9 @@ fn the_lid_driven_cavity_and_cube_on_the_device_are_the_cpu_flows() {
 /// field within 10⁻⁸ of the CPU's.
 #[test]
 fn the_cube_in_four_bindings_is_the_cpu_flow() {
-    let Some(gpu) = device() else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let h = 1.0 / 16.0;
     let (mut cpu, mut dev) = (lid_cube(), lid_cube());
     // The arrays hold about 3.1·10⁵ reals (2.5 MB in f64): bindings of
@@ -241,7 +230,9 @@ fn a_channel_with_an_outflow_on_the_device_is_the_cpu_flow() {
 }
 
 fn channel(inflow: Side) {
-    let Some(gpu) = device() else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let mut sides = [[Side::WALL; 2]; 3];
     sides[0] = [inflow, Side::Outflow];
     let n = [16, 8, 8];
@@ -291,7 +282,9 @@ fn sphere_in_a_stream(following: bool) {
     use exchange::Shape;
     use fluid_proc::incompressible::immersed::{place_markers, ImmersedBody};
     use fluid_proc::surface::Surface;
-    let Some(gpu) = device() else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let mut sides = [[Side::WALL; 2]; 3];
     sides[0] = [Side::Velocity([1.0, 0.0, 0.0]), Side::Outflow];
     sides[1] = [Side::Periodic; 2];
@@ -339,7 +332,9 @@ fn sphere_in_a_stream(following: bool) {
 fn porous_and_closed_sheets_on_the_device_are_the_cpu_flows() {
     use fluid_proc::incompressible::immersed::ImmersedBody;
     use fluid_proc::surface::Marker;
-    let Some(gpu) = device() else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let mut sides = [[Side::Periodic; 2]; 3];
     sides[2] = [Side::Velocity([0.0, 0.0, 1.8]), Side::Outflow];
     let (n, h) = ([8, 8, 32], 0.125);
@@ -393,7 +388,9 @@ fn porous_and_closed_sheets_on_the_device_are_the_cpu_flows() {
 #[test]
 fn a_window_taken_again_on_the_device_is_the_same_window() {
     use fluid_proc::incompressible::checkpoint::Checkpoint;
-    let Some(gpu) = device() else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let h = 1.0 / 16.0;
     let (mut cpu, mut dev) = (lid_cube(), lid_cube());
     dev.to_device(&gpu).unwrap();
@@ -445,7 +442,9 @@ fn a_window_taken_again_on_the_device_is_the_same_window() {
 #[test]
 fn a_step_too_long_is_refused_on_the_device_as_on_the_cpu() {
     use fluid_proc::incompressible::FlowError;
-    let Some(gpu) = device() else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let n = 32;
     let (mut cpu, mut dev) = (taylor_green(n), taylor_green(n));
     dev.to_device(&gpu).unwrap();

@@ -12,6 +12,7 @@ use flow::{FlowBox, FlowSides};
 use frame::FrameSpec;
 use gas::{GasRegion, AIR_GAMMA, DEFAULT_CFL};
 pub use porous_load::{PorousLoad, AIR_DENSITY, AIR_VISCOSITY};
+pub use scenario::section::Device;
 use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
@@ -80,20 +81,6 @@ pub enum FluidModel {
     Euler,
 }
 
-/// Where the incompressible flow's steps run.
-#[derive(
-    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum Device {
-    #[default]
-    Cpu,
-    /// The first GPU adapter wgpu finds (the fluid-gpu crate), the state
-    /// kept there from step to step: a uniform box on one rank, with the
-    /// canopy and the bodies in it.
-    Gpu,
-}
-
 impl FluidModel {
     pub fn name(self) -> &'static str {
         match self {
@@ -154,8 +141,10 @@ pub struct FluidSection {
     /// A box that follows the parachute (`[fluid.frame]`, incompressible).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frame: Option<FrameSpec>,
-    /// Where the steps run: "cpu", or "gpu" through wgpu (incompressible;
-    /// what the device does not cover yet, the check refuses).
+    /// Where the steps run: "cpu", or "gpu" through wgpu (the fluid-gpu
+    /// crate): the incompressible model on a uniform box on one rank, with
+    /// the canopy and the bodies in it, the state kept there from step to
+    /// step; what the device does not cover yet, the check refuses.
     #[serde(default, skip_serializing_if = "is_cpu")]
     pub device: Device,
     /// Ratio of specific heats γ (euler); air's 1.4 when left out.

@@ -80,6 +80,10 @@ pub enum GpuError {
     Lost(String),
 }
 
+/// The environment variable that makes a missing adapter a test failure
+/// rather than a skip (`.ci/run` sets it: Mesa's llvmpipe is installed there).
+pub const REQUIRE_GPU: &str = "CANOPY_REQUIRE_GPU";
+
 /// An adapter, its device and queue, and the precision kernels use on it.
 pub struct Gpu {
     device: wgpu::Device,
@@ -146,6 +150,20 @@ impl Gpu {
             precision,
             name,
         })
+    }
+
+    /// For tests: the device in `precision`, or None (with a note) where
+    /// no adapter is found and [`REQUIRE_GPU`] is unset; where it is set
+    /// (CI sets it) a missing adapter fails the test.
+    pub fn for_tests(precision: Option<Precision>) -> Option<Gpu> {
+        match Gpu::with_precision(precision) {
+            Ok(gpu) => Some(gpu),
+            Err(e) if std::env::var_os(REQUIRE_GPU).is_none() => {
+                eprintln!("skipped: {e}");
+                None
+            }
+            Err(e) => panic!("{REQUIRE_GPU} is set: {e}"),
+        }
     }
 
     pub fn device(&self) -> &wgpu::Device {

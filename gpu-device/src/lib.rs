@@ -10,5 +10,5 @@ mod device;
 mod pipelines;
 
 pub use buffers::{buffer, check_size, non_empty, read_back, workgroups};
-pub use device::{Gpu, GpuError, Precision};
+pub use device::{Gpu, GpuError, Precision, REQUIRE_GPU};
 pub use pipelines::pipelines;

@@ -127,6 +127,28 @@ impl<'de, T: DeserializeOwned> Visitor<'de> for Pick<'_, T> {
     }
 }
 
+/// Where a participant's steps run, for the sections that can run on a
+/// GPU (`[structure] device`, `[fluid] device`): what the device covers is
+/// each section's, and its check refuses the rest.
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Device {
+    #[default]
+    Cpu,
+    /// The first GPU adapter wgpu finds.
+    Gpu,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -13,18 +13,6 @@ use structure_proc::gpu::OnDevice;
 use structure_proc::{build_model, gpu, integrator, Model};
 use structure_section::{Damping, Integrator as CpuScheme, Scene, StructureSection};
 
-/// The device, or `None` (with a note) where none is found and CI does not require one.
-fn device(precision: Option<Precision>) -> Option<Gpu> {
-    match Gpu::with_precision(precision) {
-        Ok(gpu) => Some(gpu),
-        Err(e) if std::env::var_os("CANOPY_REQUIRE_GPU").is_none() => {
-            eprintln!("skipped: {e}");
-            None
-        }
-        Err(e) => panic!("CANOPY_REQUIRE_GPU is set: {e}"),
-    }
-}
-
 /// The `[structure]` section of a shipped scenario.
 fn section(name: &str) -> StructureSection {
     let path = format!("{}/../scenarios/{name}.toml", env!("CARGO_MANIFEST_DIR"));
@@ -178,7 +166,9 @@ fn compare(
 /// Thesis §2.5.2's spring pendulum, 2 s (several periods) at its scene's step.
 #[test]
 fn the_device_swings_the_spring_pendulum_as_the_cpu_does() {
-    let Some(gpu) = device(None) else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let m = build_model(&section("spring-pendulum"), None, 1e-3).unwrap();
     compare(&m, &gpu, 1e-3, 2000, &[], F64, 0.1);
 }
@@ -201,13 +191,15 @@ fn damped_cloth() -> Model {
 
 #[test]
 fn the_device_drops_the_damped_cloth_as_the_cpu_does() {
-    let Some(gpu) = device(None) else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     compare(&damped_cloth(), &gpu, 1e-4, 200, &[], F64, 1e-3);
 }
 
 #[test]
 fn in_f32_the_device_drops_the_cloth_within_the_stated_error() {
-    let Some(gpu) = device(Some(Precision::F32)) else {
+    let Some(gpu) = Gpu::for_tests(Some(Precision::F32)) else {
         return;
     };
     compare(&damped_cloth(), &gpu, 1e-4, 200, &[], F32, 1e-3);
@@ -224,7 +216,9 @@ fn membrane_cloth() -> Model {
 
 #[test]
 fn the_device_hangs_the_membrane_cloth_as_the_cpu_does() {
-    let Some(gpu) = device(None) else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     compare(&membrane_cloth(), &gpu, 2e-5, 300, &[], F64, 1e-5);
 }
 
@@ -232,7 +226,9 @@ fn the_device_hangs_the_membrane_cloth_as_the_cpu_does() {
 /// membrane cloth.
 #[test]
 fn the_device_takes_the_fluids_pressure_as_the_cpu_does() {
-    let Some(gpu) = device(None) else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let m = membrane_cloth();
     let jump: Vec<f64> = (0..m.triangles.len())
         .map(|k| 5.0 + 3.0 * (k as f64).sin())
@@ -245,7 +241,9 @@ fn the_device_takes_the_fluids_pressure_as_the_cpu_does() {
 /// dampers of thesis eq. (68), 200 steps of 1 ms.
 #[test]
 fn the_device_blows_the_porous_canopy_as_the_cpu_does() {
-    let Some(gpu) = device(None) else { return };
+    let Some(gpu) = Gpu::for_tests(None) else {
+        return;
+    };
     let mut s = section("canopy-porous");
     s.porous = section("canopy-stiff").porous;
     assert!(s.porous.is_some() && s.damping == Damping::RelativeVelocity);
@@ -262,7 +260,9 @@ fn the_device_blows_the_porous_canopy_as_the_cpu_does() {
 /// the impulse on held nodes is pinned by `compare` on the other networks.)
 #[test]
 fn the_device_steps_every_parachute_preset_as_the_cpu_does() {
-    let Some(_) = device(None) else { return };
+    let Some(_) = Gpu::for_tests(None) else {
+        return;
+    };
     let scenes = [
         "c9-drop",
         "c9-drop-body",
@@ -333,7 +333,9 @@ fn the_device_steps_every_parachute_preset_as_the_cpu_does() {
 /// lines may break; against the CPU.
 #[test]
 fn the_device_follows_a_release_and_a_line_break() {
-    let Some(_) = device(None) else { return };
+    let Some(_) = Gpu::for_tests(None) else {
+        return;
+    };
     let path = format!(
         "{}/../scenarios/t11-descent.toml",
         env!("CARGO_MANIFEST_DIR")

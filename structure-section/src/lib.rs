@@ -9,6 +9,7 @@ pub use parachute::{
     Cloth, ClothHold, ClothPlane, LineBreak, LineChange, Parachute, ParachuteModel,
 };
 use rigid_section::{default_gravity, AttachmentSpec, RigidSection};
+pub use scenario::section::Device;
 use scenario::Checker;
 use serde::{Deserialize, Serialize};
 
@@ -36,7 +37,9 @@ pub struct StructureSection {
     pub substeps: u32,
     #[serde(default)]
     pub integrator: Integrator,
-    /// Where the steps run: the CPU, or a GPU through wgpu (`structure-gpu`).
+    /// Where the steps run: the CPU, or a GPU through wgpu (`structure-gpu`):
+    /// the explicit schemes (euler-cromer, velocity-verlet, rk4), the state
+    /// kept there between sub-steps.
     #[serde(default)]
     pub device: Device,
     /// β, γ for `integrator = "newmark"`.
@@ -95,20 +98,6 @@ pub struct StructureSection {
 
 fn one() -> u32 {
     1
-}
-
-/// Where the structure's steps run.
-#[derive(
-    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum Device {
-    #[default]
-    Cpu,
-    /// The explicit schemes the device runs (euler-cromer, velocity-verlet,
-    /// rk4) on the first GPU adapter wgpu finds, the state kept there
-    /// between sub-steps.
-    Gpu,
 }
 
 /// The integrators `device = "gpu"` runs.

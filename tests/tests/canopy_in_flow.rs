@@ -78,16 +78,7 @@ fn a_porous_sheet_hovers_with_its_flow_on_the_gpu() {
     let scenario = variant("sheet-updraft", &dir, |s| {
         s.fluid.as_mut().unwrap().device = fluid_section::Device::Gpu;
     });
-    let checked = std::process::Command::new(coupler_exe())
-        .args(["check", scenario.to_str().unwrap()])
-        .output()
-        .expect("run coupler");
-    let err = String::from_utf8_lossy(&checked.stderr);
-    if !checked.status.success()
-        && err.contains("no GPU adapter")
-        && std::env::var_os("CANOPY_REQUIRE_GPU").is_none()
-    {
-        eprintln!("skipped: {err}");
+    if !gpu_check_passes(&scenario) {
         return;
     }
     let out = dir.join("run");
