@@ -310,7 +310,11 @@ impl Tries {
             converged &= m.converged(n.residual, n.value);
             self.last.push((m.field.clone(), *n));
         }
-        self.converged = converged;
+        // A try that nothing was sent before (an accelerated field its
+        // solver first writes at a window's end, under the serial scheme)
+        // has not been measured: it is no converged window, and the next
+        // try measures against it.
+        self.converged = converged && comparable;
         comparable
     }
 
