@@ -428,7 +428,12 @@ impl Flow {
             lists.clear();
             let s = self.read_scalars()?;
             let at = |k: usize, what: usize| s[block(levels, k) + what];
-            if solves.iter().any(|&k| at(k, slot::FAIL) != 0.0) {
+            // The kernels flag a value that is not finite, but a driver may
+            // take floats as always finite and fold their test away (Vulkan
+            // keeps NaN and Inf only where a shader asks): so the residuals
+            // read here are checked too.
+            let blown = |k: usize| at(k, slot::FAIL) != 0.0 || !at(k, slot::RR).is_finite();
+            if solves.iter().any(|&k| blown(k)) {
                 return Err(FlowError::NonFinite);
             }
             let iterations: Vec<usize> =

@@ -184,7 +184,9 @@ impl Builder<'_> {
         }
     }
 
-    /// out = y + sign·s[coef]·z over `rec`'s box (no y: `y = None`).
+    /// out = y + sign·s[coef]·z over `rec`'s box (no y: `y = None`); with
+    /// `coef` the zero slot, out = y (or 0) without reading z, so that a
+    /// NaN a failed step left there does not outlive the zeroing.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn lin(
         &mut self,
@@ -198,7 +200,7 @@ impl Builder<'_> {
     ) {
         let rec = Rec {
             o: [out, y.unwrap_or(0), z, 0],
-            kind: negate as u32 | (y.is_none() as u32) << 1,
+            kind: negate as u32 | (y.is_none() as u32) << 1 | ((coef == slot::ZERO) as u32) << 2,
             slot: coef,
             ..rec
         };

@@ -79,11 +79,28 @@ fn poisson_apply(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     }
 }
 
+// On how many axes cell c of level l is the last cell of an odd periodic
+// axis, whose neighbour across the wrap has its colour (spec.rs's
+// `seam_phase`): a colour is swept phase by phase, as fluid-proc sweeps
+// it in order, so that no two cells of one dispatch touch.
+fn seam_phase(l: u32, c: vec3<u32>) -> u32 {
+    let n = LEVEL_N[l];
+    var phase = 0u;
+    for (var d = 0u; d < 3u; d++) {
+        let odd = n[d] % 2u == 1u && n[d] >= 3u;
+        if SIDE[2u * d] == PERIODIC && odd && c[d] + 1u == n[d] {
+            phase += 1u;
+        }
+    }
+    return phase;
+}
+
 // One Gauss–Seidel update of cell t of level l for A x = b (x at xo, b at
-// bo) where it has colour `colour` ((i + j + k) mod 2).
-fn relax(l: u32, bo: u32, xo: u32, t: u32, colour: u32) {
+// bo) where it has colour `colour` ((i + j + k) mod 2) and seam phase
+// `phase`.
+fn relax(l: u32, bo: u32, xo: u32, t: u32, colour: u32, phase: u32) {
     let c = cell_coords(LEVEL_N[l], t);
-    if (c.x + c.y + c.z) % 2u != colour {
+    if (c.x + c.y + c.z) % 2u != colour || seam_phase(l, c) != phase {
         return;
     }
     let a = stencil(l, xo, t);
@@ -93,14 +110,15 @@ fn relax(l: u32, bo: u32, xo: u32, t: u32, colour: u32) {
     }
 }
 
-// One colour's sweep (op.aux) of level op.comp: b at o0, x at o1.
+// One seam phase (op.kind) of one colour's sweep (op.aux) of level
+// op.comp: b at o0, x at o1.
 @compute @workgroup_size(256)
 fn sweep(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let t = thread(gid, groups);
     if t >= op.count || skipped() {
         return;
     }
-    relax(op.comp, op.o0, op.o1, t, op.aux);
+    relax(op.comp, op.o0, op.o1, t, op.aux, op.kind);
 }
 
 // Whether level l halves along d into level l + 1.
@@ -158,10 +176,14 @@ fn prolongation(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
 }
 
 // The coarsest level op.comp (b at o0, x at o1) on one workgroup: x from
-// zero by COARSEST_SWEEPS symmetric red–black sweeps, mean-free where A is
-// singular (fluid-proc's multigrid.rs).
+// zero by COARSEST_SWEEPS symmetric red–black sweeps, each colour in its
+// op.kind seam phases, mean-free where A is singular (fluid-proc's
+// multigrid.rs).
 @compute @workgroup_size(256)
 fn coarsest(@builtin(local_invocation_index) local: u32) {
+    if workgroup_skips(local) {
+        return;
+    }
     let l = op.comp;
     let n = op.count;
     for (var t = local; t < n; t += WG) {
@@ -172,11 +194,13 @@ fn coarsest(@builtin(local_invocation_index) local: u32) {
         // Red, black, black, red.
         let k = sweep % 4u;
         let colour = select(1u, 0u, k == 0u || k == 3u);
-        for (var t = local; t < n; t += WG) {
-            relax(l, op.o0, op.o1, t, colour);
+        for (var phase = 0u; phase < op.kind; phase++) {
+            for (var t = local; t < n; t += WG) {
+                relax(l, op.o0, op.o1, t, colour, phase);
+            }
+            storageBarrier();
+            workgroupBarrier();
         }
-        storageBarrier();
-        workgroupBarrier();
     }
     if !SINGULAR {
         return;

@@ -3,7 +3,8 @@
 
 // ---- Vector operations and sums ------------------------------------------
 
-// out (o0) = y (o1; none where kind has bit 1) + c·z (o2), c = s[slot],
+// out (o0) = y (o1; none where kind has bit 1) + c·z (o2; none where kind
+// has bit 2: the zero coefficient), c = s[slot],
 // negated where kind has bit 0; over the op's box.
 @compute @workgroup_size(256)
 fn lin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
@@ -13,11 +14,15 @@ fn lin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) g
     }
     let rel = box_index(box_coords(t));
     let c = select(s[op.slot], -s[op.slot], (op.kind & 1u) == 1u);
-    var y: real = 0.0;
+    var v: real = 0.0;
     if (op.kind & 2u) == 0u {
-        y = rd(op.o1 + rel);
+        v = rd(op.o1 + rel);
     }
-    wr(op.o0 + rel, y + c * rd(op.o2 + rel));
+    // Kind 4: the zero coefficient, z not read (0·NaN would be NaN).
+    if (op.kind & 4u) == 0u {
+        v += c * rd(op.o2 + rel);
+    }
+    wr(op.o0 + rel, v);
 }
 
 // x (o0) −= s[slot] over the op's box.

@@ -103,10 +103,6 @@ impl FlowBox {
         !self.sides.iter().flatten().any(|&s| s == Side::Outflow)
     }
 
-    /// The multigrid's levels, finest first: each halves every axis that
-    /// has an even count of at least 4 cells (2 where periodic), as
-    /// fluid-proc's `Grid::coarse_plans` does on a uniform box, until it
-    /// has at most 64 cells or no axis halves. Cells and spacings.
     /// The markers' spacing h: the geometric mean of the spacings across
     /// the flow's axes (fluid-proc's immersed.rs: ΔV_k = ΔA_k·h).
     pub(crate) fn spacing(&self) -> f64 {
@@ -120,6 +116,10 @@ impl FlowBox {
             .powf(1.0 / active.len() as f64)
     }
 
+    /// The multigrid's levels, finest first: each halves every axis that
+    /// has an even count of at least 4 cells (2 where periodic), as
+    /// fluid-proc's `Grid::coarse_plans` does on a uniform box, until it
+    /// has at most 64 cells or no axis halves. Cells and spacings.
     pub(crate) fn levels(&self) -> Vec<([usize; 3], [f64; 3])> {
         let mut levels = vec![(self.n, self.h)];
         loop {
@@ -145,6 +145,35 @@ impl FlowBox {
         levels
     }
 
+    /// The seam phase of cell `c` of a level of `n` cells: on how many
+    /// axes it is the last cell of an odd periodic axis. There the cell's
+    /// neighbour across the wrap, the axis's first cell, has its colour,
+    /// and red–black Gauss–Seidel's colour is no longer a set of
+    /// independent updates: fluid-proc sweeps a colour's cells in order,
+    /// so the last cell reads the first's new value and the first the
+    /// last's old one. The device sweeps each colour phase by phase (the
+    /// same rule in projection.wgsl's `seam_phase`), which is that order
+    /// with no two cells of one dispatch touching. (The kernels compute
+    /// it; here for the rule's test.)
+    #[cfg(test)]
+    pub(crate) fn seam_phase(&self, n: [usize; 3], c: [usize; 3]) -> usize {
+        (0..3)
+            .filter(|&d| self.odd_seam(n, d) && c[d] + 1 == n[d])
+            .count()
+    }
+
+    /// The seam phases a level of `n` cells has (1 where no axis is odd and
+    /// periodic).
+    pub(crate) fn seam_phases(&self, n: [usize; 3]) -> usize {
+        1 + (0..3).filter(|&d| self.odd_seam(n, d)).count()
+    }
+
+    /// Whether axis d of a level of `n` cells wraps onto a cell of the
+    /// same colour.
+    fn odd_seam(&self, n: [usize; 3], d: usize) -> bool {
+        self.sides[d][0] == Side::Periodic && n[d] % 2 == 1 && n[d] >= 3
+    }
+
     /// Why the device cannot step this box, if it cannot.
     pub fn refused(&self) -> Option<String> {
         for d in 0..3 {
@@ -161,5 +190,57 @@ impl FlowBox {
         }
         (u32::try_from(self.padded_len(0) * 16).is_err())
             .then(|| "more faces than 32-bit indices reach".to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Red–black Gauss–Seidel with the seam phases: on levels with odd
+    /// periodic axes (5 × 3 periodic, 7 walled; 3 × 5 × 7 periodic), no
+    /// two neighbours of one colour share a phase (a dispatch's updates are
+    /// independent), and of two such neighbours the one fluid-proc sweeps
+    /// first (the lower index: x fastest) has the lower phase, so the
+    /// device reads what the CPU's ordered sweep reads.
+    #[test]
+    fn seam_phases_order_a_colours_neighbours_as_the_cpu_sweeps_them() {
+        let wall = Side::Velocity([0.0; 3]);
+        for (n, z) in [([5, 3, 7], wall), ([3, 5, 7], Side::Periodic)] {
+            let b = FlowBox {
+                n,
+                h: [1.0; 3],
+                sides: [[Side::Periodic; 2], [Side::Periodic; 2], [z; 2]],
+                nu: 1.0,
+                density: 1.0,
+            };
+            let index = |c: [usize; 3]| c[0] + n[0] * (c[1] + n[1] * c[2]);
+            let mut across = 0;
+            for k in 0..n[2] {
+                for j in 0..n[1] {
+                    for i in 0..n[0] {
+                        let c = [i, j, k];
+                        for d in 0..3 {
+                            if b.sides[d][0] != Side::Periodic {
+                                continue;
+                            }
+                            let mut m = c;
+                            m[d] = (c[d] + 1) % n[d];
+                            let colour = |c: [usize; 3]| c.iter().sum::<usize>() % 2;
+                            if colour(m) != colour(c) {
+                                continue;
+                            }
+                            across += 1;
+                            let (pc, pm) = (b.seam_phase(n, c), b.seam_phase(n, m));
+                            assert_ne!(pc, pm, "{c:?} and {m:?} share phase {pc}");
+                            assert_eq!(index(m) < index(c), pm < pc, "{c:?}, {m:?}");
+                        }
+                    }
+                }
+            }
+            let odd = (0..3).filter(|&d| b.sides[d][0] == Side::Periodic).count();
+            assert_eq!(b.seam_phases(n), 1 + odd);
+            assert!(across > 0, "{n:?}: the seams were crossed");
+        }
     }
 }

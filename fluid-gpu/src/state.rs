@@ -92,6 +92,9 @@ impl Flow {
         };
         self.write_array(self.mem.phi, &phi);
         self.last_dt = last_dt;
+        // A state set here is no window's restored start: its next step
+        // takes no kept prediction.
+        (self.restored, self.kept_valid) = (false, false);
         for (k, (_, a)) in self.active().into_iter().enumerate() {
             let len = self.spec.padded_len(a_comp(&self.mem, a.u));
             let zero = vec![0.0; len];

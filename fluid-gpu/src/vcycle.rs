@@ -5,7 +5,7 @@
 
 use crate::memory::slot;
 use crate::pass::{Kernel, Pass, Rec};
-use crate::plan::{Builder, Guard, NONE};
+use crate::plan::{Builder, Guard};
 
 /// Red–black sweeps before and after a level's coarse correction
 /// (fluid-proc's multigrid.rs).
@@ -30,22 +30,28 @@ impl Builder<'_> {
             comp: l,
             ..Rec::flat(count)
         };
+        // Each colour is swept in its seam phases (spec.rs's `seam_phase`).
+        let phases = self.b.seam_phases(level.cells) as u32;
         if l + 1 == levels.len() {
             let rec = Rec {
                 o: [level.b, level.x, 0, 0],
+                kind: phases,
                 ..here
             };
-            self.push(list, Kernel::Coarsest, rec, NONE);
+            self.push(list, Kernel::Coarsest, rec, g);
             return;
         }
         self.lin(list, here, level.x, None, (false, slot::ZERO), level.x, g);
         let sweep = |x: &mut Builder, list: &mut Vec<Pass>, colour: usize| {
-            let rec = Rec {
-                o: [level.b, level.x, 0, 0],
-                aux: colour,
-                ..here
-            };
-            x.push(list, Kernel::Smooth, rec, g);
+            for phase in 0..phases {
+                let rec = Rec {
+                    o: [level.b, level.x, 0, 0],
+                    aux: colour,
+                    kind: phase,
+                    ..here
+                };
+                x.push(list, Kernel::Smooth, rec, g);
+            }
         };
         for _ in 0..SWEEPS {
             sweep(self, list, 0);

@@ -71,7 +71,10 @@ fn a_field_first_written_at_a_windows_end_is_measured_before_it_converges() {
     let tries = m.column(tries.expect("a tries monitor"));
     assert!(tries[1] >= 2.0, "window 0 took {} tries", tries[1]);
     let speed = m.column("structure.momentum.z").last().unwrap() / AREAL_DENSITY;
-    eprintln!("window 0: {} tries; the sheet rises at {speed} m/s", tries[1]);
+    eprintln!(
+        "window 0: {} tries; the sheet rises at {speed} m/s",
+        tries[1]
+    );
     assert!(
         (speed / UPDRAFT - 1.0).abs() < 5e-3,
         "the sheet rises at {speed} m/s against {UPDRAFT} m/s"

@@ -30,13 +30,10 @@ impl Incompressible {
     /// A window's end: the pressure back to the host, where it is older,
     /// and what the forcing gave the fluid recorded on the bodies.
     pub fn fetch_window_end(&mut self) -> Result<(), FlowError> {
+        self.fetch_pressure()?;
         let Some(d) = self.device.as_mut() else {
             return Ok(());
         };
-        if d.q_stale {
-            d.flow.download_pressure(&mut self.q).map_err(gpu)?;
-            d.q_stale = false;
-        }
         let given = d.flow.take_given().map_err(gpu)?;
         let grid = self.setup.grid.clone();
         let mut given = given.into_iter();
@@ -47,6 +44,16 @@ impl Incompressible {
                 body.record(&grid, x, push);
             }
         }
+        Ok(())
+    }
+
+    /// The pressure back to the host, where it is older.
+    pub(crate) fn fetch_pressure(&mut self) -> Result<(), FlowError> {
+        let Some(d) = self.device.as_mut().filter(|d| d.q_stale) else {
+            return Ok(());
+        };
+        d.flow.download_pressure(&mut self.q).map_err(gpu)?;
+        d.q_stale = false;
         Ok(())
     }
 

@@ -124,6 +124,8 @@ pub struct StepReport {
     pub courant: f64,
     pub pressure_iterations: usize,
     /// Wall-clock time of the projection (divergence, solve, update) [s].
+    /// On the device the whole step: its passes are queued together and
+    /// the host sees only when the step's last submit is done.
     pub pressure_seconds: f64,
     pub viscous_iterations: usize,
     /// Whether the step took its window's kept prediction (`prediction.rs`).
@@ -253,8 +255,9 @@ impl Incompressible {
     /// repeats (and the faces two ranks share) equal, after the caller set
     /// `u`.
     pub fn impose_sides(&mut self) {
-        // From the current velocities: the device's, where it ran.
-        if let Err(e) = self.fetch_velocities() {
+        // From the current state: the device's, where it ran (the pressure
+        // too, which the next upload sends back with the velocities).
+        if let Err(e) = self.fetch_pressure().and_then(|_| self.fetch_velocities()) {
             eprintln!("fluid-proc: {e}");
         }
         self.host_changed();
