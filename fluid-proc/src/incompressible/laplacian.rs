@@ -59,6 +59,9 @@ pub struct Stencil {
     x_wraps: bool,
     /// The first cell's place along the slab's axis in the whole box, mod 2.
     parity: usize,
+    /// Whether y and z are odd and periodic: their last lines then touch
+    /// their first of the same colour across the wrap (see `seam_phase`).
+    seams: [bool; 2],
 }
 
 impl Stencil {
@@ -130,6 +133,7 @@ impl Stencil {
             lines,
             x_wraps: nx > 1 && g.bc[0][0] == Bc::Periodic,
             parity: offset % 2,
+            seams: [1, 2].map(|d| g.n[d] % 2 == 1 && g.n[d] > 1 && g.bc[d][0] == Bc::Periodic),
         }
     }
 
@@ -234,7 +238,11 @@ impl Stencil {
     /// any number: a line writes only its cells of this colour and reads
     /// only cells of the other. The cells are read and written as atomics
     /// (plain loads and stores on x86-64) since a line reads lines that
-    /// other threads write at the cells it does not read.
+    /// other threads write at the cells it does not read. Across the wrap
+    /// of an odd periodic axis a cell's neighbour has its colour: along x
+    /// a line takes its cells in order, and along y and z the lines go in
+    /// seam phases (`seam_phase`), the last line after the first, as one
+    /// thread would take them in order.
     pub fn gauss_seidel(&self, b: &[f64], x: &mut [f64], halo: &Halo, colour: usize) {
         let nx = self.grid.n[0];
         let ny = self.grid.n[1];
@@ -257,16 +265,35 @@ impl Stencil {
                 }
             }
         };
-        match self.lines.len() > per_task {
-            true => self
-                .lines
-                .par_iter()
-                .enumerate()
-                .with_min_len(per_task)
-                .for_each(sweep),
-            // A coarse level: not worth waking another thread.
-            false => self.lines.iter().enumerate().for_each(sweep),
+        let phases = 1 + self.seams.iter().filter(|&&s| s).count();
+        for phase in 0..phases {
+            let in_phase = |(l, line): (usize, &Line)| {
+                if self.seam_phase(l) == phase {
+                    sweep((l, line));
+                }
+            };
+            match self.lines.len() > per_task {
+                true => self
+                    .lines
+                    .par_iter()
+                    .enumerate()
+                    .with_min_len(per_task)
+                    .for_each(in_phase),
+                // A coarse level: not worth waking another thread.
+                false => self.lines.iter().enumerate().for_each(in_phase),
+            }
         }
+    }
+
+    /// On how many of y and z line `l` is the last of an odd periodic
+    /// axis, whose first line has its colours: a sweep takes such lines
+    /// after the first ones (fluid-gpu's `seam_phase` is the same rule per
+    /// cell), so that no two lines of one phase touch and every thread
+    /// count gives what one thread's ordered sweep gives.
+    fn seam_phase(&self, l: usize) -> usize {
+        let [_, ny, nz] = self.grid.n;
+        let last = [l % ny + 1 == ny, l / ny + 1 == nz];
+        (0..2).filter(|&a| self.seams[a] && last[a]).count()
     }
 }
 
