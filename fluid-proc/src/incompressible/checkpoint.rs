@@ -75,7 +75,12 @@ impl Incompressible {
         if let Err(e) = read {
             eprintln!("fluid-proc: {e}");
         }
-        into.q.clone_from(&self.q);
+        if let Err(e) = self.pressure_into(&mut into.q) {
+            // A device lost while saving: the host's older pressure, and
+            // the next step stops the run with the device's error.
+            eprintln!("fluid-proc: {e}");
+            into.q.clone_from(&self.q);
+        }
         into.time = self.time;
         if !into.on_device {
             self.save_history(&mut into.history);

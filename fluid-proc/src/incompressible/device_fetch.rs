@@ -82,6 +82,21 @@ impl Incompressible {
         }
     }
 
+    /// The current pressure into `out`: the device's where the host's is
+    /// older.
+    pub(crate) fn pressure_into(&self, out: &mut Vec<f64>) -> Result<(), FlowError> {
+        match self.device.as_ref().filter(|d| d.q_stale) {
+            Some(d) => {
+                out.resize(self.q.len(), 0.0);
+                d.flow.download_pressure(out).map_err(gpu)
+            }
+            None => {
+                out.clone_from(&self.q);
+                Ok(())
+            }
+        }
+    }
+
     /// A window begins: its velocities kept for the steady residual, in
     /// `before` on the host, or on the device where the flow runs there
     /// (the state sent up first where the host holds it).
