@@ -8,7 +8,7 @@ use crate::pass::{
     Kernel, Pass, Rec, FORCING_PASSES, FORCING_RECORDS, RECORD_BYTES, SPREAD_WORKGROUP, WORKGROUP,
 };
 use crate::spec::{FlowBox, Side};
-use gpu_device::{buffer, check_size, non_empty, read_back, workgroups, GpuError};
+use gpu_device::{binding_limit, buffer, check_size, non_empty, read_back, workgroups, GpuError};
 
 /// How the air is held at a marker.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -163,17 +163,23 @@ impl Flow {
         let p = self.precision;
         let (record_bytes, table_bytes) = (sorted.records.len() * p.size(), sorted.table.len() * 4);
         check_size(&self.device, "the markers", record_bytes as u64)?;
+        check_size(&self.device, "the markers' blocks", table_bytes as u64)?;
         let storage = wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_SRC
             | wgpu::BufferUsages::COPY_DST;
+        // Room for twice as many, so that a canopy that moves does not
+        // grow the buffers every window, within what a binding holds.
+        let limit = binding_limit(&self.device) as usize;
+        let room = |needed: usize| (2 * needed).min(limit).max(needed);
         let mut grown = false;
         if (record_bytes as u64) > self.buffers.markers.size() {
-            let bytes = non_empty(p.bytes(&vec![0.0; 2 * sorted.records.len()]));
+            let reals = room(record_bytes) / p.size();
+            let bytes = non_empty(p.bytes(&vec![0.0; reals]));
             self.buffers.markers = buffer(&self.device, "markers", &bytes, storage);
             grown = true;
         }
         if (table_bytes as u64) > self.buffers.blocks.size() {
-            let bytes = vec![0u8; 2 * table_bytes];
+            let bytes = vec![0u8; room(table_bytes)];
             self.buffers.blocks = buffer(&self.device, "blocks", &bytes, storage);
             grown = true;
         }

@@ -6,8 +6,7 @@ use wgpu::util::DeviceExt;
 
 /// Refuse a buffer larger than the device binds.
 pub fn check_size(device: &wgpu::Device, what: &'static str, needed: u64) -> Result<(), GpuError> {
-    let limits = device.limits();
-    let limit = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+    let limit = binding_limit(device);
     if needed > limit {
         return Err(GpuError::TooLarge {
             what,
@@ -16,6 +15,12 @@ pub fn check_size(device: &wgpu::Device, what: &'static str, needed: u64) -> Res
         });
     }
     Ok(())
+}
+
+/// The most bytes one storage binding of `device` may hold.
+pub fn binding_limit(device: &wgpu::Device) -> u64 {
+    let limits = device.limits();
+    (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size)
 }
 
 /// A binding may not be empty: an empty array gets one unused word.

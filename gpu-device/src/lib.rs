@@ -9,6 +9,6 @@ mod buffers;
 mod device;
 mod pipelines;
 
-pub use buffers::{buffer, check_size, non_empty, read_back, workgroups};
+pub use buffers::{binding_limit, buffer, check_size, non_empty, read_back, workgroups};
 pub use device::{Gpu, GpuError, Precision, REQUIRE_GPU};
 pub use pipelines::pipelines;
