@@ -161,3 +161,26 @@ fn probes_read_the_pressure_drop_and_the_stream_across_a_closed_sheet() {
     let start = m.column("fluid.probe_below_velocity_z")[0];
     assert!((start - 1.8).abs() < 1e-12, "{start}");
 }
+
+/// `check` warns where the box's counts do not halve: the C-9's tunnel on
+/// 45 × 45 × 90 cells halves only along z, to 45³, whose 40 symmetric
+/// sweeps (80 updates a cell) take 80·45³/(80·45³ + 5·45²·90) = 89 % of
+/// each V-cycle (fluid-proc's multigrid.rs); the shipped 32 × 32 × 48 goes
+/// down to 2 × 2 × 3 and is not warned of. A warning, never fatal.
+#[test]
+fn check_warns_of_a_box_whose_multigrid_stops_at_a_large_level() {
+    let dir = scratch("multigrid-warning");
+    for (cells, warns) in [([45, 45, 90], true), ([32, 32, 48], false)] {
+        let path = variant("c9-tunnel", &dir, |s| {
+            s.fluid.as_mut().unwrap().flow_box.as_mut().unwrap().cells = cells;
+            s.coupling.window = 0.01; // Courant number 0.225 on the finer cells
+        });
+        let o = coupler(&["check", path.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{err}");
+        let warned = err.contains("multigrid stops at 45 × 45 × 45 cells")
+            && err.contains("take 89 % of each V-cycle");
+        assert_eq!(warned, warns, "{cells:?}: {err}");
+        assert_eq!(err.contains("multigrid stops"), warns, "{cells:?}: {err}");
+    }
+}

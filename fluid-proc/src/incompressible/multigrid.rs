@@ -42,6 +42,40 @@ const COARSEST_CELLS: usize = 64;
 /// …and is solved by this many symmetric sweeps.
 const COARSEST_SWEEPS: usize = 40;
 
+/// The cells of each level a one-rank multigrid on `fine` has, finest
+/// first, as [`Multigrid::on`] builds them: each halves the axes whose
+/// counts are even (`Grid::coarse_plans`) until at most `COARSEST_CELLS`
+/// are left or none halves.
+pub fn level_cells(fine: &Grid) -> Vec<[usize; 3]> {
+    let mut grids = vec![fine.clone()];
+    while grids.last().unwrap().cells() > COARSEST_CELLS {
+        let Some(plan) = grids.last().unwrap().coarse_plans() else {
+            break;
+        };
+        let next = grids.last().unwrap().coarsened(&plan);
+        grids.push(next);
+    }
+    grids.iter().map(|g| g.n).collect()
+}
+
+/// The coarsest of `levels`' share of one V-cycle's cell updates: its
+/// `COARSEST_SWEEPS` symmetric sweeps (each cell twice a sweep) against
+/// `SWEEPS` sweeps before and after and a residual on every other level.
+/// Where counts do not halve, the coarsest level is large and this share
+/// nears one: the solve then costs several times what it would.
+pub fn coarsest_share(levels: &[[usize; 3]]) -> f64 {
+    let cells = |n: &[usize; 3]| n.iter().product::<usize>() as f64;
+    let Some((last, others)) = levels.split_last() else {
+        return 0.0;
+    };
+    let coarsest = 2.0 * COARSEST_SWEEPS as f64 * cells(last);
+    let others: f64 = others
+        .iter()
+        .map(|n| (2 * SWEEPS + 1) as f64 * cells(n))
+        .sum();
+    coarsest / (coarsest + others)
+}
+
 struct Level {
     part: Part,
     halo: Halo,
@@ -327,4 +361,34 @@ fn children_of(parent: &[usize], coarse: usize) -> (Vec<usize>, Vec<usize>) {
         next[p] += 1;
     }
     (first, kids)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::incompressible::grid::Bc;
+
+    /// `level_cells` is the chain the solver builds, and its cost model
+    /// counts cell updates: a periodic 45 × 45 × 90 box halves only along
+    /// z, to 45³, whose 40 symmetric sweeps (80 updates a cell) against the
+    /// fine level's 5 make 80·45³/(80·45³ + 5·45²·90) = 8/9 of a V-cycle;
+    /// FronTier++'s 60 × 60 × 120 goes down to 15³, a tenth.
+    #[test]
+    fn the_levels_are_the_solvers_and_an_odd_box_spends_its_cycle_at_the_bottom() {
+        let periodic_xy = |n: [usize; 3]| {
+            let bc = [[Bc::Periodic; 2], [Bc::Periodic; 2], [Bc::Neumann; 2]];
+            Grid::uniform(n, [1.0; 3], bc)
+        };
+        let odd = periodic_xy([45, 45, 90]);
+        let levels = level_cells(&odd);
+        assert_eq!(levels, vec![[45, 45, 90], [45, 45, 45]]);
+        let built = Multigrid::new(&odd);
+        let built: Vec<[usize; 3]> = built.levels.iter().map(|l| l.stencil.grid.n).collect();
+        assert_eq!(levels, built, "the solver's own levels");
+        assert!((coarsest_share(&levels) - 8.0 / 9.0).abs() < 1e-12);
+        let c9 = level_cells(&periodic_xy([60, 60, 120]));
+        assert_eq!(c9.last(), Some(&[15, 15, 15]));
+        let share = coarsest_share(&c9);
+        assert!((0.09..0.11).contains(&share), "{share}");
+    }
 }

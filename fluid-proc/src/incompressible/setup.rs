@@ -20,6 +20,26 @@ pub fn flow_from(section: &FluidSection) -> Option<Incompressible> {
 
 /// [`flow_from`], this rank's slab of it (`part.rs`).
 pub fn flow_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Incompressible> {
+    let (grid, sides) = grid_of(section)?;
+    let part = Part::on(comm, grid.n, sides);
+    let setup = FlowSetup {
+        grid,
+        sides,
+        density: section.density(),
+        nu: section.viscosity() / section.density(),
+    };
+    let mut flow = Incompressible::on(setup, part);
+    if let Some(v) = section.initial_velocity {
+        for (u, v) in flow.u.u.iter_mut().zip(v) {
+            u.fill(v);
+        }
+        flow.impose_sides();
+    }
+    Some(flow)
+}
+
+/// The whole box's grid and sides of `[fluid]` (None without a box).
+pub fn grid_of(section: &FluidSection) -> Option<(Grid, [[Side; 2]; 3])> {
     let b = section.flow_box?;
     let mut sides = [[Side::WALL; 2]; 3];
     for (d, pair) in section.resolved_sides()?.iter().enumerate() {
@@ -46,19 +66,5 @@ pub fn flow_on(section: &FluidSection, comm: Arc<dyn Comm>) -> Option<Incompress
             Grid::of_axes([axis(0)?, axis(1)?, axis(2)?], bc)
         }
     };
-    let part = Part::on(comm, grid.n, sides);
-    let setup = FlowSetup {
-        grid,
-        sides,
-        density: section.density(),
-        nu: section.viscosity() / section.density(),
-    };
-    let mut flow = Incompressible::on(setup, part);
-    if let Some(v) = section.initial_velocity {
-        for (u, v) in flow.u.u.iter_mut().zip(v) {
-            u.fill(v);
-        }
-        flow.impose_sides();
-    }
-    Some(flow)
+    Some((grid, sides))
 }
