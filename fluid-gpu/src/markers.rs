@@ -170,7 +170,8 @@ impl Flow {
         // Room for twice as many, so that a canopy that moves does not
         // grow the buffers every window, within what a binding holds.
         let limit = binding_limit(&self.device) as usize;
-        let room = |needed: usize| (2 * needed).min(limit).max(needed);
+        // (Whole 8-byte words: a binding's size is a multiple of 4.)
+        let room = |needed: usize| ((2 * needed).min(limit) & !7).max(needed);
         let mut grown = false;
         if (record_bytes as u64) > self.buffers.markers.size() {
             let reals = room(record_bytes) / p.size();

@@ -96,14 +96,25 @@ impl Tries {
     /// its index among the measured, ‖r‖₂, ‖x‖₂.
     pub fn worst(&self) -> Option<(usize, f64, f64)> {
         let s = &self.settings;
-        self.last
+        let at = |field: &String| s.fields.iter().position(|m| m.field == *field);
+        let measured = self
+            .last
             .iter()
             .filter_map(|(field, n)| {
-                let i = s.fields.iter().position(|m| m.field == *field)?;
+                let i = at(field)?;
                 let unconverged = !s.fields[i].converged(n.residual, n.value);
                 unconverged.then_some((i, n.residual, n.value))
             })
-            .max_by(|a, b| (a.1 / a.2).total_cmp(&(b.1 / b.2)))
+            .max_by(|a, b| (a.1 / a.2).total_cmp(&(b.1 / b.2)));
+        // Unconverged with every field within its limits: the try had
+        // nothing to be measured against (`measure`), its norms zero.
+        measured.or_else(|| match self.converged {
+            true => None,
+            false => self
+                .last
+                .iter()
+                .find_map(|(field, n)| Some((at(field)?, n.residual, n.value))),
+        })
     }
 
     /// The implicit monitors' values for a window that took `tries`.
@@ -142,10 +153,20 @@ impl Tries {
                     true => self.worst(),
                     false => presence.worst(p),
                 };
+                let field = |i: usize| fields.get(i).map_or("?", |f| f.field.as_str());
                 match worst {
+                    // Unconverged with nothing to measure: a try that had
+                    // nothing sent before it (`measure`).
+                    Some((i, r, x)) if r == 0.0 && x == 0.0 => format!(
+                        "field `{}` of `{}`: not measured, nothing was sent before this try \
+                         (a field first written at a window's end needs a second try: \
+                         max_iterations of 2 or more)",
+                        field(i),
+                        names[p]
+                    ),
                     Some((i, r, x)) => format!(
                         "field `{}` of `{}`: residual {r:.3e} against a value of {x:.3e}",
-                        fields.get(i).map_or("?", |f| f.field.as_str()),
+                        field(i),
                         names[p]
                     ),
                     None => format!("a field of `{}`", names[p]),

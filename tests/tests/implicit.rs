@@ -79,6 +79,20 @@ fn a_field_first_written_at_a_windows_end_is_measured_before_it_converges() {
         (speed / UPDRAFT - 1.0).abs() < 5e-3,
         "the sheet rises at {speed} m/s against {UPDRAFT} m/s"
     );
+    // Allowed one try, window 0 cannot be measured, and the run says so.
+    let once = variant("sheet-closed", &dir, |s| {
+        s.coupling.implicit = Some(scenario::ImplicitSection {
+            accelerate: Some(vec!["canopy.pressure".into()]),
+            max_iterations: 1,
+            ..Default::default()
+        });
+    });
+    let msg = run_failed(&once, &dir.join("once"));
+    assert!(
+        msg.contains("window 0 did not converge")
+            && msg.contains("`canopy.pressure` of `fluid`: not measured"),
+        "{msg}"
+    );
 }
 
 /// Mean and largest tries per window of scene `name` over `end` seconds

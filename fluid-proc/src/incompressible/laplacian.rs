@@ -272,14 +272,15 @@ impl Stencil {
                     sweep((l, line));
                 }
             };
-            match self.lines.len() > per_task {
+            // A coarse level, or the few last lines of a later phase: not
+            // worth waking another thread.
+            match phase == 0 && self.lines.len() > per_task {
                 true => self
                     .lines
                     .par_iter()
                     .enumerate()
                     .with_min_len(per_task)
                     .for_each(in_phase),
-                // A coarse level: not worth waking another thread.
                 false => self.lines.iter().enumerate().for_each(in_phase),
             }
         }
